@@ -1,0 +1,60 @@
+//! The orthonormal frame bundle of each manifold, in a global representation
+//! without chart singularities (SPEC §3.2).
+//!
+//! An element `g` of the bundle is a point `x` of the manifold together with an
+//! orthonormal (for H²: Minkowski-orthonormal), positively oriented frame
+//! `q = (q_1 … q_N)` of `T_xM`. It is stored as an element of a Lie group
+//! [`FrameBundle::Group`] — SO(3) for S², SO⁺(1,2) for H², SO(4) for S³, the
+//! global angles (θ, φ, a) ∈ ℝ³ for T² — so that integrators can move it by
+//! exponentials and it never meets a coordinate pole.
+//!
+//! **Horizontal lift.** A curve whose velocity has components `u` in the
+//! frame `q` and whose frame is parallel-transported along it satisfies
+//! `ġ = g · ξ` with `ξ = horizontal_lift(g, u)` (left-trivialised).
+//! **Vertical generator.** Rotating the frame in place, `q̇ = q·w` with `w`
+//! skew, is `ġ = g · vertical(g, w)`.
+
+mod hyperbolic2;
+mod sphere2;
+mod sphere3;
+mod torus2;
+
+pub use hyperbolic2::*;
+pub use sphere2::*;
+pub use sphere3::*;
+pub use torus2::*;
+
+use nalgebra::{SMatrix, SVector};
+
+use crate::lie::LieGroup;
+use crate::manifold::Manifold;
+use crate::Result;
+
+/// A manifold whose orthonormal frame bundle has a global Lie-group representation.
+pub trait FrameBundle<const N: usize, const E: usize>: Manifold<N, E> {
+    /// The group that stores bundle elements.
+    type Group: LieGroup;
+
+    /// The bundle element at the embedded point `p` with frame vectors given as
+    /// the columns of `q` (ambient components). Fails with a typed error when
+    /// `p` is not on the manifold, or `q` is not tangent, orthonormal and
+    /// positively oriented (tolerance 1e-9).
+    fn from_frame(&self, p: &SVector<f64, E>, q: &SMatrix<f64, E, N>) -> Result<Self::Group>;
+    /// The bundle element at the chart point `x` whose frame is the paper's
+    /// frame field `E(x)` rotated by the orthogonal matrix `u`: `q = E(x)·u`.
+    fn from_chart(&self, x: &SVector<f64, N>, u: &SMatrix<f64, N, N>) -> Result<Self::Group>;
+    /// The point `x` (ambient coordinates).
+    fn position(&self, g: &Self::Group) -> SVector<f64, E>;
+    /// The frame vectors `q_a` as columns (ambient coordinates).
+    fn frame_vectors(&self, g: &Self::Group) -> SMatrix<f64, E, N>;
+    /// The chart point and the matrix `u` with `q = E(x)·u`: the inverse of
+    /// [`Self::from_chart`]; fails where the chart is singular.
+    fn to_chart(&self, g: &Self::Group) -> Result<(SVector<f64, N>, SMatrix<f64, N, N>)>;
+    /// Generator of parallel transport along the velocity with frame
+    /// components `u`: `ġ = g·ξ`.
+    fn horizontal_lift(&self, g: &Self::Group, u: &SVector<f64, N>) -> <Self::Group as LieGroup>::Algebra;
+    /// Generator of the in-place frame rotation `q̇ = q·w` (`w` skew).
+    fn vertical(&self, g: &Self::Group, w: &SMatrix<f64, N, N>) -> <Self::Group as LieGroup>::Algebra;
+    /// Distance of `g` from the bundle (group constraint and, for T², none).
+    fn bundle_defect(&self, g: &Self::Group) -> f64;
+}

@@ -1,0 +1,23 @@
+//! # framedyn
+//!
+//! Structured particles — infinitesimal gyroscopes and infinitesimal
+//! affinely-rigid bodies — moving on curved manifolds (S², H², T², S³), after
+//! J. J. Sławianowski et al. (the paper in `shared/seed`, equation labels such
+//! as (a52) refer to it).
+//!
+//! Layout:
+//! - [`lie`]: the Lie groups of the configuration spaces and their exponential
+//!   maps, with closed forms where they exist and series where they do not;
+//! - [`manifold`]: the [`Manifold`](manifold::Manifold) trait and the four
+//!   manifolds in the paper's coordinates and frames;
+//! - [`bundle`]: the orthonormal frame bundle of each manifold in a global,
+//!   chart-free representation, with the horizontal lift (parallel transport).
+#![deny(missing_docs)]
+#![deny(unsafe_code)]
+
+pub mod bundle;
+pub mod error;
+pub mod lie;
+pub mod manifold;
+
+pub use error::{Error, Result};

@@ -1,0 +1,2 @@
+//! Placeholder replaced by the S² work: parallel transport through the pole.
+fn main() {}

@@ -1,0 +1,14 @@
+//! The core crate's integration-test binary: generic law suites, run for every
+//! implementation (one binary, so the crate is linked once).
+
+mod bundle_laws;
+mod lie_laws;
+mod manifold_laws;
+
+mod hyperbolic;
+mod matrix_groups;
+mod sphere;
+mod sphere3;
+mod torus;
+
+lie_law_suite!(rn3, framedyn::lie::Rn<3>, radius = 5.0, tol = 1e-14, fd_tol = 1e-9);

@@ -1,0 +1,196 @@
+//! The manifold law suite: [`check_manifold_at`] is called by every manifold's
+//! tests (proptest over random chart points) with the closed-form curvature.
+
+use framedyn::manifold::{Manifold, Tensor3};
+use nalgebra::{SMatrix, SVector};
+
+const H: f64 = 1e-5;
+
+fn unit<const N: usize>(i: usize) -> SVector<f64, N> {
+    let mut e = SVector::zeros();
+    e[i] = 1.0;
+    e
+}
+
+/// Christoffel symbols from central differences of the metric:
+/// `Γ^i_{jk} = ½ g^{il}(∂_j g_{lk} + ∂_k g_{lj} − ∂_l g_{jk})`.
+pub fn christoffel_fd<M: Manifold<N, E>, const N: usize, const E: usize>(m: &M, x: &SVector<f64, N>) -> Tensor3<N> {
+    let dg: Vec<SMatrix<f64, N, N>> =
+        (0..N).map(|l| (m.metric(&(x + unit::<N>(l) * H)) - m.metric(&(x - unit::<N>(l) * H))) / (2.0 * H)).collect();
+    let ginv = m.metric(x).try_inverse().expect("metric invertible");
+    let mut out = [[[0.0; N]; N]; N];
+    for i in 0..N {
+        for j in 0..N {
+            for k in 0..N {
+                out[i][j][k] = (0..N)
+                    .map(|l| 0.5 * ginv[(i, l)] * (dg[j][(l, k)] + dg[k][(l, j)] - dg[l][(j, k)]))
+                    .sum();
+            }
+        }
+    }
+    out
+}
+
+/// Checks, at the chart point `x`: closed-form Christoffel symbols = finite
+/// differences of the metric; Riemann tensor = its definition from finite
+/// differences of the Christoffel symbols; sectional curvature of the frame
+/// planes = `k_expected(A, B)`; frame `E` orthonormal; `Γ^A_{BC}` skew in
+/// `A, B` and equal to its definition `E⁻¹(∂_{E_C} E_B + Γ(E_C) E_B)`; the
+/// embedding pulls the ambient metric back to `g`, `embed_tangent` is its
+/// derivative, and `chart`/`chart_tangent` invert `embed`/`embed_tangent`.
+pub fn check_manifold_at<M: Manifold<N, E>, const N: usize, const E: usize>(
+    m: &M,
+    x: &SVector<f64, N>,
+    k_expected: impl Fn(usize, usize) -> f64,
+    tol: f64,
+) -> Result<(), String> {
+    let check = |name: &str, err: f64, bound: f64| -> Result<(), String> {
+        if err <= bound && err.is_finite() {
+            Ok(())
+        } else {
+            Err(format!("{} at {x:?}: law `{name}` violated, error {err:e} > {bound:e}", M::NAME))
+        }
+    };
+    m.check_chart(x).map_err(|e| format!("{} at {x:?}: check_chart failed: {e}", M::NAME))?;
+    let g = m.metric(x);
+    check("metric symmetric", (g - g.transpose()).amax(), 0.0)?;
+
+    // Christoffel symbols.
+    let gam = m.christoffel(x);
+    let gam_fd = christoffel_fd(m, x);
+    let mut err: f64 = 0.0;
+    for i in 0..N {
+        for j in 0..N {
+            for k in 0..N {
+                err = err.max((gam[i][j][k] - gam_fd[i][j][k]).abs() / (1.0 + gam[i][j][k].abs()));
+                err = err.max((gam[i][j][k] - gam[i][k][j]).abs());
+            }
+        }
+    }
+    check("Christoffel = FD of metric", err, 1e-7)?;
+
+    // Riemann tensor from its definition.
+    let r = m.riemann(x);
+    let dgam: Vec<Tensor3<N>> = (0..N)
+        .map(|l| {
+            let (p, q) = (m.christoffel(&(x + unit::<N>(l) * H)), m.christoffel(&(x - unit::<N>(l) * H)));
+            let mut d = [[[0.0; N]; N]; N];
+            for i in 0..N {
+                for j in 0..N {
+                    for k in 0..N {
+                        d[i][j][k] = (p[i][j][k] - q[i][j][k]) / (2.0 * H);
+                    }
+                }
+            }
+            d
+        })
+        .collect();
+    let mut err: f64 = 0.0;
+    for i in 0..N {
+        for j in 0..N {
+            for k in 0..N {
+                for l in 0..N {
+                    let mut def = dgam[k][i][j][l] - dgam[l][i][j][k];
+                    for mm in 0..N {
+                        def += gam[i][mm][k] * gam[mm][j][l] - gam[i][mm][l] * gam[mm][j][k];
+                    }
+                    err = err.max((r[i][j][k][l] - def).abs() / (1.0 + def.abs()));
+                }
+            }
+        }
+    }
+    check("Riemann = definition", err, 1e-6)?;
+
+    // Frame: orthonormal; sectional curvatures of frame planes.
+    let fr = m.frame(x);
+    check("E orthonormal", (fr.transpose() * g * fr - SMatrix::<f64, N, N>::identity()).amax(), tol)?;
+    for a in 0..N {
+        for b in (a + 1)..N {
+            let k = m.sectional_curvature(x, &fr.column(a).into(), &fr.column(b).into());
+            let ke = k_expected(a, b);
+            check("sectional curvature = closed form", (k - ke).abs() / (1.0 + ke.abs()), tol.max(1e-12))?;
+        }
+    }
+
+    // Frame connection coefficients.
+    let fc = m.frame_connection(x);
+    let finv = fr.try_inverse().expect("frame invertible");
+    let dfr: Vec<SMatrix<f64, N, N>> =
+        (0..N).map(|k| (m.frame(&(x + unit::<N>(k) * H)) - m.frame(&(x - unit::<N>(k) * H))) / (2.0 * H)).collect();
+    let mut err_def: f64 = 0.0;
+    let mut err_skew: f64 = 0.0;
+    for b in 0..N {
+        for c in 0..N {
+            // ∇_{E_C} E_B in chart components.
+            let mut nab = SVector::<f64, N>::zeros();
+            for i in 0..N {
+                for k in 0..N {
+                    let mut v = dfr[k][(i, b)];
+                    for j in 0..N {
+                        v += gam[i][j][k] * fr[(j, b)];
+                    }
+                    nab[i] += fr[(k, c)] * v;
+                }
+            }
+            let comps = finv * nab;
+            for a in 0..N {
+                err_def = err_def.max((fc[a][b][c] - comps[a]).abs() / (1.0 + comps[a].abs()));
+                err_skew = err_skew.max((fc[a][b][c] + fc[b][a][c]).abs());
+            }
+        }
+    }
+    check("Γ^A_BC = definition", err_def, 1e-7)?;
+    check("Γ^A_BC skew in A,B", err_skew, tol)?;
+
+    // Embedding.
+    let p = m.embed(x);
+    check("embedded point on manifold", m.point_defect(&p), tol)?;
+    let amb = m.ambient_metric();
+    let mut jac = SMatrix::<f64, E, N>::zeros();
+    for i in 0..N {
+        let d = (m.embed(&(x + unit::<N>(i) * H)) - m.embed(&(x - unit::<N>(i) * H))) / (2.0 * H);
+        jac.set_column(i, &d);
+        check("embed_tangent = FD of embed", (m.embed_tangent(x, &unit::<N>(i)) - d).amax() / (1.0 + d.amax()), 1e-8)?;
+    }
+    check("pull-back of ambient metric = g", (jac.transpose() * amb * jac - g).amax() / (1.0 + g.amax()), 1e-8)?;
+    let back = m.chart(&p).map_err(|e| format!("{}: chart(embed(x)) failed: {e}", M::NAME))?;
+    check("embed(chart(embed x)) = embed x", (m.embed(&back) - p).amax() / (1.0 + p.amax()), tol)?;
+    let v: SVector<f64, N> = SVector::from_fn(|i, _| 0.3 + 0.7 * i as f64);
+    let w = m.embed_tangent(x, &v);
+    let vb = m.chart_tangent(&p, &w).map_err(|e| format!("{}: chart_tangent failed: {e}", M::NAME))?;
+    check("chart_tangent inverts embed_tangent", (vb - v).amax() / (1.0 + v.amax()), tol)?;
+    check("tangent vectors are tangent", (m.project_tangent(&p, &w) - w).amax() / (1.0 + w.amax()), tol)?;
+    let off = p * 1.001;
+    check("project_point lands on manifold", m.point_defect(&m.project_point(&off)), tol)?;
+
+    // Distance: zero on the diagonal; first-order agreement with the metric.
+    check("d(p, p) = 0", m.distance(&p, &p).map_err(|e| e.to_string())?, 1e-7)?;
+    let dx = v * 1e-4;
+    let q = m.embed(&(x + dx));
+    let d = m.distance(&p, &q).map_err(|e| e.to_string())?;
+    let ds = dx.dot(&(g * dx)).sqrt();
+    check("d ≈ √(g dx dx) for nearby points", (d - ds).abs() / ds, 1e-3)?;
+    Ok(())
+}
+
+/// Metric-space laws of `distance` at three embedded points: symmetry,
+/// positivity and the triangle inequality.
+pub fn check_distance_laws<M: Manifold<N, E>, const N: usize, const E: usize>(
+    m: &M,
+    p: &SVector<f64, E>,
+    q: &SVector<f64, E>,
+    r: &SVector<f64, E>,
+) -> Result<(), String> {
+    let d = |a: &SVector<f64, E>, b: &SVector<f64, E>| m.distance(a, b).map_err(|e| e.to_string());
+    let (pq, qp, qr, pr) = (d(p, q)?, d(q, p)?, d(q, r)?, d(p, r)?);
+    if (pq - qp).abs() > 1e-9 * (1.0 + pq) {
+        return Err(format!("{}: distance not symmetric: {pq} vs {qp}", M::NAME));
+    }
+    if pq < 0.0 || !pq.is_finite() {
+        return Err(format!("{}: distance {pq} invalid", M::NAME));
+    }
+    if pr > pq + qr + 1e-9 * (1.0 + pr) {
+        return Err(format!("{}: triangle inequality violated: {pr} > {pq} + {qr}", M::NAME));
+    }
+    Ok(())
+}
