@@ -139,13 +139,15 @@ pub fn product_drift<G: LieGroup>(gens: &[G::Algebra], count: usize) -> f64 {
 
 /// Instantiates the law suite for a group.
 ///
-/// `lie_law_suite!(name, Group, radius = r, tol = t, fd_tol = f)` draws algebra
-/// coordinates uniformly in `[-r, r]` (rescaled so the norm stays below `r`),
-/// checks every law of [`check_laws`] with proptest, and checks that 10⁶
-/// renormalised random products stay in the group to `1e-13`.
+/// `lie_law_suite!(name, Group, radius = r, tol = t, fd_tol = f, product_radius = pr)`
+/// draws algebra coordinates uniformly in `[-r, r]` (rescaled so the norm stays
+/// below `r`), checks every law of [`check_laws`] with proptest, and checks
+/// that 10⁶ renormalised random products of `exp(a)`, `|a| ≤ pr`, stay in the
+/// group to `1e-13` (for non-compact groups `pr` must be small enough that the
+/// random walk does not overflow: its growth rate is O(pr²) per step).
 #[macro_export]
 macro_rules! lie_law_suite {
-    ($name:ident, $G:ty, radius = $r:expr, tol = $tol:expr, fd_tol = $fd:expr) => {
+    ($name:ident, $G:ty, radius = $r:expr, tol = $tol:expr, fd_tol = $fd:expr, product_radius = $pr:expr) => {
         mod $name {
             use super::*;
             use framedyn::lie::LieGroup;
@@ -194,7 +196,11 @@ macro_rules! lie_law_suite {
                     (rng >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
                 };
                 let gens: Vec<_> = (0..64)
-                    .map(|_| alg((0..<G as LieGroup>::DOF).map(|_| next() * $r).collect()))
+                    .map(|_| {
+                        let c: Vec<f64> = (0..<G as LieGroup>::DOF).map(|_| next()).collect();
+                        let n = c.iter().map(|x| x * x).sum::<f64>().sqrt().max(1e-300);
+                        G::algebra_from_coords(&c.iter().map(|x| x * $pr / n).collect::<Vec<_>>())
+                    })
                     .collect();
                 let drift = product_drift::<G>(&gens, 1_000_000);
                 assert!(drift <= 1e-13, "{}: defect {drift:e} after 1e6 products", <G as LieGroup>::NAME);
