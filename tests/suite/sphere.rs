@@ -364,6 +364,7 @@ fn so2_basics() {
     assert!((g.compose(&So2::from_angle(1.0).unwrap()).angle() - wrap(3.5)).abs() <= 1e-15);
     assert!((g.act(&Vector2::x()) - Vector2::new(2.5f64.cos(), 2.5f64.sin())).amax() <= 1e-16);
     assert_eq!(So2::from_angle(PI).unwrap().log().unwrap(), Vector1::new(PI));
+    assert_eq!(So2::new_unchecked(-1.0, -0.0).log().unwrap(), Vector1::new(PI));
     assert!(So2::new(0.6, 0.8).is_ok());
 }
 

@@ -68,10 +68,16 @@ impl So2 {
         self.cs[1]
     }
 
-    /// The principal angle `ψ = atan2(sin, cos) ∈ (−π, π]`.
+    /// The principal angle `ψ = atan2(sin, cos) ∈ (−π, π]` (a stored
+    /// `sin = −0.0` with `cos < 0` gives `π`, not `−π`).
     #[inline]
     pub fn angle(&self) -> f64 {
-        self.cs[1].atan2(self.cs[0])
+        let a = self.cs[1].atan2(self.cs[0]);
+        if a == -std::f64::consts::PI {
+            std::f64::consts::PI
+        } else {
+            a
+        }
     }
 
     /// The rotation matrix `[[cos, −sin], [sin, cos]]`.
