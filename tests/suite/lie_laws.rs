@@ -137,7 +137,8 @@ pub fn product_drift<G: LieGroup>(gens: &[G::Algebra], count: usize) -> f64 {
     worst.max(g.constraint_defect())
 }
 
-/// Instantiates the law suite for a group.
+/// Instantiates the law suite for a group. From a submodule of the suite call
+/// it as `crate::lie_law_suite!(...)`.
 ///
 /// `lie_law_suite!(name, Group, radius = r, tol = t, fd_tol = f, product_radius = pr)`
 /// draws algebra coordinates uniformly in `[-r, r]` (rescaled so the norm stays
@@ -149,8 +150,10 @@ pub fn product_drift<G: LieGroup>(gens: &[G::Algebra], count: usize) -> f64 {
 macro_rules! lie_law_suite {
     ($name:ident, $G:ty, radius = $r:expr, tol = $tol:expr, fd_tol = $fd:expr, product_radius = $pr:expr) => {
         mod $name {
+            #[allow(unused_imports)]
             use super::*;
             use framedyn::lie::LieGroup;
+            #[allow(unused_imports)]
             use proptest::prelude::*;
             use $crate::lie_laws::{check_laws, product_drift};
 

@@ -4,7 +4,61 @@
 use framedyn::manifold::{Manifold, Tensor3};
 use nalgebra::{SMatrix, SVector};
 
-const H: f64 = 1e-5;
+/// Derivative at 0 of a vector-valued function by Ridders' extrapolation of
+/// central differences (Numerical Recipes `dfridr`), componentwise: the step
+/// starts at 0.05 and shrinks by 1.4 per level, and each component keeps the
+/// estimate with the smallest extrapolation-error estimate. Accurate to ~1e-10
+/// even close to a coordinate pole where derivatives grow like 1/r^k.
+fn ridders(f: impl Fn(f64) -> Vec<f64>) -> Vec<f64> {
+    const LEVELS: usize = 16;
+    const CON: f64 = 1.4;
+    let central = |h: f64| -> Vec<f64> {
+        let (p, m) = (f(h), f(-h));
+        p.iter().zip(&m).map(|(a, b)| (a - b) / (2.0 * h)).collect()
+    };
+    let mut h = 0.05;
+    let first = central(h);
+    let len = first.len();
+    let mut best = first.clone();
+    let mut err = vec![f64::INFINITY; len];
+    let mut prev: Vec<Vec<f64>> = vec![first];
+    for _ in 1..LEVELS {
+        h /= CON;
+        let mut row = vec![central(h)];
+        let mut fac = CON * CON;
+        for j in 1..=prev.len() {
+            let next: Vec<f64> = (0..len).map(|c| (row[j - 1][c] * fac - prev[j - 1][c]) / (fac - 1.0)).collect();
+            fac *= CON * CON;
+            for c in 0..len {
+                let e = (next[c] - row[j - 1][c]).abs().max((next[c] - prev[j - 1][c]).abs());
+                if e <= err[c] {
+                    err[c] = e;
+                    best[c] = next[c];
+                }
+            }
+            row.push(next);
+        }
+        prev = row;
+    }
+    best
+}
+
+fn d_mat<const R: usize, const C: usize>(f: impl Fn(f64) -> SMatrix<f64, R, C>) -> SMatrix<f64, R, C> {
+    SMatrix::from_column_slice(&ridders(|h| f(h).as_slice().to_vec()))
+}
+
+fn d_t3<const N: usize>(f: impl Fn(f64) -> Tensor3<N>) -> Tensor3<N> {
+    let flat = ridders(|h| f(h).iter().flatten().flatten().copied().collect());
+    let mut out = [[[0.0; N]; N]; N];
+    for i in 0..N {
+        for j in 0..N {
+            for k in 0..N {
+                out[i][j][k] = flat[(i * N + j) * N + k];
+            }
+        }
+    }
+    out
+}
 
 fn unit<const N: usize>(i: usize) -> SVector<f64, N> {
     let mut e = SVector::zeros();
@@ -12,11 +66,10 @@ fn unit<const N: usize>(i: usize) -> SVector<f64, N> {
     e
 }
 
-/// Christoffel symbols from central differences of the metric:
+/// Christoffel symbols from Ridders-extrapolated differences of the metric:
 /// `Γ^i_{jk} = ½ g^{il}(∂_j g_{lk} + ∂_k g_{lj} − ∂_l g_{jk})`.
 pub fn christoffel_fd<M: Manifold<N, E>, const N: usize, const E: usize>(m: &M, x: &SVector<f64, N>) -> Tensor3<N> {
-    let dg: Vec<SMatrix<f64, N, N>> =
-        (0..N).map(|l| (m.metric(&(x + unit::<N>(l) * H)) - m.metric(&(x - unit::<N>(l) * H))) / (2.0 * H)).collect();
+    let dg: Vec<SMatrix<f64, N, N>> = (0..N).map(|l| d_mat(|h| m.metric(&(x + unit::<N>(l) * h)))).collect();
     let ginv = m.metric(x).try_inverse().expect("metric invertible");
     let mut out = [[[0.0; N]; N]; N];
     for i in 0..N {
@@ -71,20 +124,7 @@ pub fn check_manifold_at<M: Manifold<N, E>, const N: usize, const E: usize>(
 
     // Riemann tensor from its definition.
     let r = m.riemann(x);
-    let dgam: Vec<Tensor3<N>> = (0..N)
-        .map(|l| {
-            let (p, q) = (m.christoffel(&(x + unit::<N>(l) * H)), m.christoffel(&(x - unit::<N>(l) * H)));
-            let mut d = [[[0.0; N]; N]; N];
-            for i in 0..N {
-                for j in 0..N {
-                    for k in 0..N {
-                        d[i][j][k] = (p[i][j][k] - q[i][j][k]) / (2.0 * H);
-                    }
-                }
-            }
-            d
-        })
-        .collect();
+    let dgam: Vec<Tensor3<N>> = (0..N).map(|l| d_t3(|h| m.christoffel(&(x + unit::<N>(l) * h)))).collect();
     let mut err: f64 = 0.0;
     for i in 0..N {
         for j in 0..N {
@@ -115,8 +155,7 @@ pub fn check_manifold_at<M: Manifold<N, E>, const N: usize, const E: usize>(
     // Frame connection coefficients.
     let fc = m.frame_connection(x);
     let finv = fr.try_inverse().expect("frame invertible");
-    let dfr: Vec<SMatrix<f64, N, N>> =
-        (0..N).map(|k| (m.frame(&(x + unit::<N>(k) * H)) - m.frame(&(x - unit::<N>(k) * H))) / (2.0 * H)).collect();
+    let dfr: Vec<SMatrix<f64, N, N>> = (0..N).map(|k| d_mat(|h| m.frame(&(x + unit::<N>(k) * h)))).collect();
     let mut err_def: f64 = 0.0;
     let mut err_skew: f64 = 0.0;
     for b in 0..N {
@@ -148,7 +187,7 @@ pub fn check_manifold_at<M: Manifold<N, E>, const N: usize, const E: usize>(
     let amb = m.ambient_metric();
     let mut jac = SMatrix::<f64, E, N>::zeros();
     for i in 0..N {
-        let d = (m.embed(&(x + unit::<N>(i) * H)) - m.embed(&(x - unit::<N>(i) * H))) / (2.0 * H);
+        let d = d_mat(|h| m.embed(&(x + unit::<N>(i) * h)));
         jac.set_column(i, &d);
         check("embed_tangent = FD of embed", (m.embed_tangent(x, &unit::<N>(i)) - d).amax() / (1.0 + d.amax()), 1e-8)?;
     }

@@ -19,9 +19,13 @@ mod sphere2;
 mod sphere3;
 mod torus2;
 
+#[allow(unused_imports)]
 pub use hyperbolic2::*;
+#[allow(unused_imports)]
 pub use sphere2::*;
+#[allow(unused_imports)]
 pub use sphere3::*;
+#[allow(unused_imports)]
 pub use torus2::*;
 
 use nalgebra::{SMatrix, SVector};

@@ -28,16 +28,26 @@ mod son;
 pub mod special;
 mod su2;
 
+#[allow(unused_imports)]
 pub use co::*;
+#[allow(unused_imports)]
 pub use gl::*;
+#[allow(unused_imports)]
 pub use product::*;
 pub use rn::Rn;
+#[allow(unused_imports)]
 pub use sl::*;
+#[allow(unused_imports)]
 pub use so12::*;
+#[allow(unused_imports)]
 pub use so2::*;
+#[allow(unused_imports)]
 pub use so3::*;
+#[allow(unused_imports)]
 pub use so4::*;
+#[allow(unused_imports)]
 pub use son::*;
+#[allow(unused_imports)]
 pub use su2::*;
 
 use nalgebra::{DMatrix, SMatrix};
