@@ -11,7 +11,9 @@
 //! - [`manifold`]: the [`Manifold`](manifold::Manifold) trait and the four
 //!   manifolds in the paper's coordinates and frames;
 //! - [`bundle`]: the orthonormal frame bundle of each manifold in a global,
-//!   chart-free representation, with the horizontal lift (parallel transport).
+//!   chart-free representation, with the horizontal lift (parallel transport);
+//! - [`potential`]: potentials `V(x, e)` written once, generic over dual
+//!   numbers, so forces and torques come by automatic differentiation.
 #![deny(missing_docs)]
 #![deny(unsafe_code)]
 
@@ -19,5 +21,6 @@ pub mod bundle;
 pub mod error;
 pub mod lie;
 pub mod manifold;
+pub mod potential;
 
 pub use error::{Error, Result};
