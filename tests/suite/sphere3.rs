@@ -44,10 +44,6 @@ fn chart_point(dir: &[f64], frac: f64, radius: f64) -> Vector3<f64> {
     d * (frac * PI * radius)
 }
 
-fn max_abs(m: impl IntoIterator<Item = f64>) -> f64 {
-    m.into_iter().fold(0.0, |a: f64, b| a.max(b.abs()))
-}
-
 /// Strategy: fraction of πR, log-uniform near 0 and uniform up to 0.95.
 fn frac_strategy() -> impl Strategy<Value = f64> {
     prop_oneof![(-9.0..-2.0f64).prop_map(|l| 10f64.powf(l)), 1e-2..0.95f64]
@@ -60,7 +56,14 @@ fn dir_strategy() -> impl Strategy<Value = Vec<f64>> {
 // ---------------------------------------------------------------------------
 // SO(4)
 
-crate::lie_law_suite!(so4_laws, framedyn::lie::So4, radius = 3.0, tol = 1e-14, fd_tol = 1e-8, product_radius = 3.0);
+/// The generic Lie-group laws. Algebra norm ≤ 3 keeps the rotation angles
+/// `|a| ± |b|` below π, so `log` stays principal. (Wrapped in a module that
+/// imports nothing but the group, so the macro's `use super::*` is used and its
+/// `use proptest::prelude::*` is not shadowed: no warnings.)
+mod so4_group {
+    use framedyn::lie::So4;
+    crate::lie_law_suite!(laws, So4, radius = 3.0, tol = 1e-14, fd_tol = 1e-8, product_radius = 3.0);
+}
 
 fn alg(c: &[f64]) -> So4Algebra {
     So4::algebra_from_coords(c)
@@ -435,5 +438,332 @@ fn manifold_at_chart_centre_and_special_points() {
 fn bad_radius() {
     for r in [0.0, -1.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
         assert!(matches!(Sphere3::new(r), Err(Error::InvalidParameter { field: "R", .. })), "R = {r}");
+    }
+}
+
+// ---------------------------------------------------------------------------
+// The frame bundle F(S³) = SO(4)
+
+fn rotation(c: &[f64]) -> Matrix3<f64> {
+    Rotation3::new(Vector3::new(c[0], c[1], c[2])).into_inner()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    /// The generic bundle laws (from_chart/to_chart/from_frame round trips,
+    /// horizontal lift = parallel transport, vertical = rotation in place).
+    #[test]
+    fn bundle_laws(
+        dir in dir_strategy(), frac in frac_strategy(), radius in 0.3..5.0f64,
+        rot in proptest::collection::vec(-3.0..3.0f64, 3),
+        v in proptest::collection::vec(-1.0..1.0f64, 3),
+    ) {
+        let m = s3(radius);
+        let x = chart_point(&dir, frac, radius);
+        let u = rotation(&rot);
+        let v = Vector3::new(v[0], v[1], v[2]);
+        let r = check_bundle_at(&m, &x, &u, &v, law_tol(frac));
+        prop_assert!(r.is_ok(), "{}", r.unwrap_err());
+        // Orientation convention: det[x/R | ˡE·u] = +1, and also for ʳE.
+        let p = m.embed(&x);
+        let mut q = Matrix4::zeros();
+        q.set_column(0, &(p / radius));
+        q.fixed_view_mut::<4, 3>(0, 1).copy_from(&m.frame_r_ambient(&p));
+        prop_assert!((q.determinant() - 1.0).abs() < 1e-14);
+        prop_assert!(m.from_frame(&p, &m.frame_r_ambient(&p)).is_ok());
+    }
+}
+
+#[test]
+fn random_walk_stays_in_bundle() {
+    // 10⁶ random horizontal + vertical steps of size ≈ 0.1–0.3 rad, renormalised.
+    let m = s3(1.3);
+    let g0 = m.from_chart(&Vector3::new(0.4, -1.1, 0.7), &rotation(&[0.3, -0.2, 1.0])).unwrap();
+    let defect = random_walk_defect(&m, &g0, 1_000_000, 0.2, 0x5EED_0003);
+    assert!(defect <= 1e-13, "frame defect {defect:e} after 1e6 steps");
+}
+
+/// Chart curve `x(t)` with velocity, staying inside |r̄| < 0.93πR.
+fn test_curve(radius: f64) -> impl Fn(f64) -> (Vector3<f64>, Vector3<f64>) {
+    let c0 = Vector3::new(-1.2, 0.5, 0.3) * radius;
+    let c1 = Vector3::new(2.5, -0.4, 1.1) * radius;
+    let c2 = Vector3::new(0.2, 0.9, -0.6) * radius;
+    move |t: f64| {
+        let (s, c) = (3.0 * PI * t).sin_cos();
+        (c0 + c1 * t + c2 * s, c1 + c2 * (3.0 * PI * c))
+    }
+}
+
+#[test]
+fn transport_group_form_matches_chart_form() {
+    for radius in [0.7, 2.0] {
+        let m = s3(radius);
+        let curve = test_curve(radius);
+        for t in 0..=100 {
+            assert!(curve(t as f64 / 100.0).0.norm() < 0.93 * PI * radius);
+        }
+        let (x0, _) = curve(0.0);
+        let u0 = rotation(&[0.5, 1.0, -0.7]);
+        let g0 = m.from_chart(&x0, &u0).unwrap();
+        let g1 = transport_along(&m, &g0, &curve, 2000);
+        let v1 = transport_in_chart(&m, &(m.frame(&x0) * u0), &curve, 2000);
+        let (x1, _) = curve(1.0);
+        let mut q1 = Matrix4x3::zeros();
+        for a in 0..3 {
+            q1.set_column(a, &m.embed_tangent(&x1, &v1.column(a).into()));
+        }
+        let err = (m.frame_vectors(&g1) - q1).amax();
+        let perr = (m.position(&g1) - m.embed(&x1)).amax() / radius;
+        assert!(err < 1e-10 && perr < 1e-10, "R = {radius}: frame {err:e}, point {perr:e}");
+        assert!(frame_defect(&m, &g1) < 1e-14);
+    }
+}
+
+#[test]
+fn small_loop_holonomy_converges_like_eps_squared() {
+    let radius = 1.7;
+    let m = s3(radius);
+    let x0 = Vector3::new(0.9, -1.4, 2.2);
+    let mut errs = vec![];
+    for eps in [0.2, 0.1, 0.05, 0.025] {
+        let (angle, expected) = small_loop_holonomy(&m, &x0, eps * radius, 800);
+        errs.push((angle / expected - 1.0).abs());
+    }
+    for w in errs.windows(2) {
+        let ratio = w[0] / w[1];
+        assert!((3.5..4.5).contains(&ratio), "relative errors {errs:?}: ratio {ratio}");
+    }
+    assert!(errs[3] < 1e-3, "{errs:?}");
+}
+
+/// Parallel transport in the group form along an ambient curve `t ↦ (x, ẋ)`.
+fn transport_ambient(m: &Sphere3, g0: &So4, curve: &impl Fn(f64) -> (Vector4<f64>, Vector4<f64>), steps: usize) -> So4 {
+    let xi = |t: f64, g: &So4| {
+        let (_, xd) = curve(t);
+        m.horizontal_lift(g, &frame_components(m, g, &xd))
+    };
+    let h = 1.0 / steps as f64;
+    let mut g = *g0;
+    for i in 0..steps {
+        g = rkmk4_step(&g, i as f64 * h, h, &xi);
+    }
+    g
+}
+
+/// Half a great circle from `R·1` to the chart's singular point `−R·1`, a small
+/// circle of angular radius α through `−R·1` on the totally geodesic
+/// S² = S³ ∩ {x₃ = 0}, and the other half of the great circle back to `R·1`.
+/// The great circle alone has trivial holonomy; the cap has area
+/// 2πR²(1 − cos α), so the frame returns rotated by θ = 2π(1 − cos α) in the
+/// (e₁, e₂) plane (q₁ → cos θ e₁ + sin θ e₂), with e₃ fixed. Each piece is mapped
+/// by the isometry `x ↦ v·x` (`v = 1`: through the antipode; other `v`: a
+/// congruent path elsewhere) to compare accuracy.
+fn antipode_path_holonomy(radius: f64, alpha: f64, v: &Quaternion<f64>, steps: usize) -> (f64, f64) {
+    let m = s3(radius);
+    let lv = |y: Vector4<f64>| unquat(&(v * quat(&y)));
+    let c = Vector4::new(-alpha.cos(), alpha.sin(), 0.0, 0.0);
+    let m1 = Vector4::new(-alpha.sin(), -alpha.cos(), 0.0, 0.0);
+    let m2 = Vector4::new(0.0, 0.0, 1.0, 0.0);
+    let great = |t0: f64| {
+        move |t: f64| {
+            let (s, co) = (PI * (t0 + t)).sin_cos();
+            (lv(Vector4::new(co, s, 0.0, 0.0) * radius), lv(Vector4::new(-s, co, 0.0, 0.0) * (PI * radius)))
+        }
+    };
+    let small = |t: f64| {
+        let (s, co) = (2.0 * PI * t).sin_cos();
+        let x = (c * alpha.cos() + (m1 * co + m2 * s) * alpha.sin()) * radius;
+        let xd = (m2 * co - m1 * s) * (2.0 * PI * alpha.sin() * radius);
+        (lv(x), lv(xd))
+    };
+    // Start: the point v·R·1 with frame v·e_a (the left-translated identity).
+    let mut q0 = Matrix4::zeros();
+    for a in 0..4 {
+        q0.set_column(a, &lv(Vector4::from_fn(|i, _| if i == a { 1.0 } else { 0.0 })));
+    }
+    let g0 = So4::new(q0).unwrap();
+    let mut g = transport_ambient(&m, &g0, &great(0.0), steps);
+    let at_antipode = (m.position(&g) - lv(Vector4::new(-radius, 0.0, 0.0, 0.0))).amax() / radius;
+    g = transport_ambient(&m, &g, &small, steps);
+    g = transport_ambient(&m, &g, &great(1.0), steps);
+    let th = 2.0 * PI * (1.0 - alpha.cos());
+    let mut want = Matrix4::identity();
+    want[(1, 1)] = th.cos();
+    want[(2, 1)] = th.sin();
+    want[(1, 2)] = -th.sin();
+    want[(2, 2)] = th.cos();
+    let want = q0 * want;
+    ((g.matrix() - want).amax(), at_antipode)
+}
+
+#[test]
+fn transport_through_the_antipode() {
+    for (radius, alpha) in [(1.0, 0.7), (3.2, 1.9)] {
+        // 3 × 2000 RKMK4 steps: truncation ≈ 1.8e-13, just above the round-off
+        // floor (≈ 1e-13 at 3 × 8000 steps).
+        let (err, dist) = antipode_path_holonomy(radius, alpha, &Quaternion::identity(), 2000);
+        assert!(dist < 1e-13, "path misses the antipode by {dist:e}");
+        // The chart cannot represent the element there; the group form does not care.
+        let (err_elsewhere, _) =
+            antipode_path_holonomy(radius, alpha, &Quaternion::new(0.3, -0.5, 0.7, 0.4).normalize(), 2000);
+        assert!(err < 3e-13, "holonomy error {err:e} through the antipode");
+        assert!(err < 2.0 * err_elsewhere, "through the antipode {err:e}, elsewhere {err_elsewhere:e}");
+    }
+    // RKMK4 converges (at fourth order) to the closed form.
+    let (e1, _) = antipode_path_holonomy(1.0, 0.7, &Quaternion::identity(), 50);
+    let (e2, _) = antipode_path_holonomy(1.0, 0.7, &Quaternion::identity(), 100);
+    assert!((12.0..20.0).contains(&(e1 / e2)), "order check: {e1:e} → {e2:e}");
+    // The element at the antipode itself has no chart.
+    let m = s3(1.0);
+    let anti = So4::new(Matrix4::from_diagonal(&Vector4::new(-1.0, -1.0, 1.0, 1.0))).unwrap();
+    assert!(matches!(m.to_chart(&anti), Err(Error::OutsideChart { .. })));
+}
+
+#[test]
+fn bundle_typed_errors() {
+    let radius = 2.0;
+    let m = s3(radius);
+    let x = Vector3::new(0.3, 1.0, -0.4);
+    let p = m.embed(&x);
+    let q = m.frame_l_ambient(&p);
+    assert!(m.from_frame(&p, &q).is_ok());
+    // Point off the sphere.
+    assert!(matches!(m.from_frame(&(p * 1.01), &q), Err(Error::Constraint { field: "p", .. })));
+    // Not orthonormal.
+    let mut q2 = q;
+    q2.set_column(1, &(q.column(1) * 1.01));
+    assert!(matches!(m.from_frame(&p, &q2), Err(Error::Constraint { field: "q", .. })));
+    let mut q2 = q;
+    q2.set_column(2, &((q.column(2) + q.column(1) * 0.1).normalize()));
+    assert!(matches!(m.from_frame(&p, &q2), Err(Error::Constraint { field: "q", .. })));
+    // Not tangent: a unit vector with a component along p.
+    let mut q2 = q;
+    q2.set_column(0, &((q.column(0) + p * (0.01 / radius)).normalize()));
+    assert!(matches!(m.from_frame(&p, &q2), Err(Error::Constraint { field: "q", .. })));
+    // Negatively oriented: two vectors swapped, or one reversed.
+    let mut q2 = q;
+    q2.swap_columns(0, 1);
+    assert!(matches!(m.from_frame(&p, &q2), Err(Error::Constraint { field: "q", .. })));
+    let mut q2 = q;
+    q2.set_column(2, &-q.column(2));
+    assert!(matches!(m.from_frame(&p, &q2), Err(Error::Constraint { field: "q", .. })));
+    // Non-finite.
+    let mut q2 = q;
+    q2[(3, 1)] = f64::NAN;
+    assert!(matches!(m.from_frame(&p, &q2), Err(Error::NotFinite { .. })));
+    // from_chart: outside the chart, u not a rotation.
+    assert!(matches!(m.from_chart(&Vector3::new(0.0, PI * radius, 0.0), &Matrix3::identity()), Err(Error::OutsideChart { .. })));
+    assert!(matches!(m.from_chart(&x, &Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, -1.0))), Err(Error::Constraint { field: "u", .. })));
+    assert!(matches!(m.from_chart(&x, &(Matrix3::identity() * 1.001)), Err(Error::Constraint { field: "u", .. })));
+}
+
+// ---------------------------------------------------------------------------
+// Closed-form coefficients against extended precision
+
+mod extended {
+    use super::*;
+    use astro_float::{BigFloat, Consts, RoundingMode};
+
+    const P: usize = 512;
+    const RM: RoundingMode = RoundingMode::ToEven;
+
+    struct Hp {
+        cc: Consts,
+    }
+
+    fn bf(x: f64) -> BigFloat {
+        BigFloat::from_f64(x, P)
+    }
+
+    fn to_f64(b: &BigFloat) -> f64 {
+        format!("{b}").parse().expect("decimal string")
+    }
+
+    impl Hp {
+        /// (αR², δR², γR⁴, sinc θ, θ cot θ, cos θ, (1 − sinc²θ)/θ², (1 − θcotθ)/θ²)
+        /// at θ, in 512-bit arithmetic from the trigonometric closed forms
+        /// (their cancellation is harmless at that precision).
+        fn coefficients(&mut self, theta: f64) -> [f64; 8] {
+            let th = bf(theta);
+            let s = th.sin(P, RM, &mut self.cc);
+            let c = th.cos(P, RM, &mut self.cc);
+            let th2 = th.mul(&th, P, RM);
+            let th3 = th2.mul(&th, P, RM);
+            let th5 = th3.mul(&th2, P, RM);
+            let cot = c.div(&s, P, RM);
+            let thcot = th.mul(&cot, P, RM);
+            let one = bf(1.0);
+            let sc = s.mul(&c, P, RM);
+            let alpha = thcot.sub(&one, P, RM).div(&th2, P, RM);
+            let delta = th.sub(&sc, P, RM).div(&th3, P, RM);
+            let gamma = th.add(&sc, P, RM).sub(&th2.mul(&cot, P, RM).mul(&bf(2.0), P, RM), P, RM).div(&th5, P, RM);
+            let sinc = s.div(&th, P, RM);
+            let metric_b = one.sub(&sinc.mul(&sinc, P, RM), P, RM).div(&th2, P, RM);
+            let frame_c = one.sub(&thcot, P, RM).div(&th2, P, RM);
+            [alpha, delta, gamma, sinc, thcot, c, metric_b, frame_c].map(|v| to_f64(&v))
+        }
+    }
+
+    /// Christoffel symbols, metric, frame and embedding at `x = (3t, 4t, 0)`
+    /// (|x| = 5t exact), R = 1, against the same formulas with 512-bit
+    /// coefficients, on a log-spaced grid of θ = 5t from 1e-8 to π − 1e-3
+    /// (both sides of every series switch). Error per component relative to the
+    /// sum of the magnitudes of its terms, bounded by 8ε·(1 + θ/(π − θ)).
+    #[test]
+    fn chart_coefficients_vs_extended_precision() {
+        let mut hp = Hp { cc: Consts::new().expect("constants cache") };
+        let m = s3(1.0);
+        let mut thetas: Vec<f64> = (0..=56).map(|k| 1e-8 * 10f64.powf(k as f64 / 8.0)).collect();
+        thetas.extend((1..=30).map(|k| 0.1 * k as f64 + 0.0137));
+        thetas.extend([0.5, 0.9999, 1.0, 1.0001, 2.0, PI - 0.1, PI - 1e-2, PI - 1e-3]);
+        let mut worst: f64 = 0.0;
+        for theta in thetas {
+            // t with a 40-bit mantissa, so 3t, 4t and 5t are exact.
+            let e = (theta / 5.0).log2().floor() as i32;
+            let t = ((theta / 5.0) * 2f64.powi(39 - e)).round() * 2f64.powi(e - 39);
+            let th = 5.0 * t;
+            let x = Vector3::new(3.0 * t, 4.0 * t, 0.0);
+            let [al, de, ga, sinc, thcot, cos, metric_b, frame_c] = hp.coefficients(th);
+            let bound = 8.0 * f64::EPSILON * (1.0 + th / (PI - th));
+            // Christoffel symbols.
+            let gam = m.christoffel(&x);
+            let d = |i: usize, j: usize| if i == j { 1.0 } else { 0.0 };
+            for i in 0..3 {
+                for j in 0..3 {
+                    for k in 0..3 {
+                        let terms = [al * x[j] * d(i, k), al * x[k] * d(i, j), de * d(j, k) * x[i], ga * x[i] * x[j] * x[k]];
+                        let want: f64 = terms.iter().sum();
+                        let scale: f64 = terms.iter().map(|v| v.abs()).sum();
+                        if scale > 0.0 {
+                            let err = (gam[i][j][k] - want).abs() / scale;
+                            worst = worst.max(err / bound * 8.0 * f64::EPSILON);
+                            assert!(err <= bound, "Γ^{i}_{j}{k} at θ = {th}: {err:e} > {bound:e}");
+                        }
+                    }
+                }
+            }
+            // Metric sinc² I + (1 − sinc²)/θ² xxᵀ.
+            let a = sinc * sinc;
+            let g_want = Matrix3::identity() * a + x * x.transpose() * metric_b;
+            let g = m.metric(&x);
+            let err = (g - g_want).amax() / g_want.amax();
+            assert!(err <= bound, "metric at θ = {th}: {err:e}");
+            worst = worst.max(err / bound * 8.0 * f64::EPSILON);
+            // Frame θcotθ I + (1 − θcotθ)/θ² xxᵀ − [x]×.
+            let f = m.frame(&x);
+            let f_want = Matrix3::identity() * thcot + x * x.transpose() * frame_c
+                - Matrix3::new(0.0, -x[2], x[1], x[2], 0.0, -x[0], -x[1], x[0], 0.0);
+            let err = (f - f_want).amax() / f_want.amax();
+            assert!(err <= bound, "frame at θ = {th}: {err:e}");
+            worst = worst.max(err / bound * 8.0 * f64::EPSILON);
+            // Embedding (cos θ, sinc θ · x).
+            let p = m.embed(&x);
+            let p_want = Vector4::new(cos, sinc * x[0], sinc * x[1], 0.0);
+            let err = (p - p_want).amax();
+            assert!(err <= bound, "embedding at θ = {th}: {err:e}");
+            worst = worst.max(err / bound * 8.0 * f64::EPSILON);
+        }
+        println!("worst error / (1 + θ/(π − θ)) = {worst:e}");
     }
 }
