@@ -62,7 +62,7 @@ fn dir_strategy() -> impl Strategy<Value = Vec<f64>> {
 /// `use proptest::prelude::*` is not shadowed: no warnings.)
 mod so4_group {
     use framedyn::lie::So4;
-    crate::lie_law_suite!(laws, So4, radius = 3.0, tol = 1e-14, fd_tol = 1e-8, product_radius = 3.0);
+    crate::lie_law_suite!(laws, So4, radius = 3.0, tol = 1e-14, fd_tol = 1e-9, product_radius = 3.0);
 }
 
 fn alg(c: &[f64]) -> So4Algebra {
@@ -515,7 +515,8 @@ fn transport_group_form_matches_chart_form() {
         }
         let err = (m.frame_vectors(&g1) - q1).amax();
         let perr = (m.position(&g1) - m.embed(&x1)).amax() / radius;
-        assert!(err < 1e-10 && perr < 1e-10, "R = {radius}: frame {err:e}, point {perr:e}");
+        // Measured 3.1e-12 (both RK4 integrations at 2000 steps).
+        assert!(err < 3e-11 && perr < 3e-11, "R = {radius}: frame {err:e}, point {perr:e}");
         assert!(frame_defect(&m, &g1) < 1e-14);
     }
 }

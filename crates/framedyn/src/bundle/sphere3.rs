@@ -1,21 +1,5 @@
-//! The orthonormal frame bundle of S³(R) as SO(4) (SPEC §3.2).
-//!
-//! A bundle element — a point `x ∈ S³(R) ⊂ ℝ⁴` with an orthonormal frame
-//! `(q₁, q₂, q₃)` of `T_xS³` — is the rotation `Q = [x/R | q₁ | q₂ | q₃] ∈ SO(4)`
-//! ([`So4`] stores exactly this matrix). **Orientation:** a frame is positively
-//! oriented when `det Q = +1`. Both of the paper's frames are: along `ˡE(R)`,
-//! `Q = [u | e₁u | e₂u | e₃u]` is right multiplication by the unit quaternion
-//! `u = x/R`, along `ʳE(R)` it is left multiplication; both are the identity at
-//! the chart centre `x = R·1`.
-//!
-//! **Horizontal lift.** Moving with velocity `Σ u_a q_a` while transporting the
-//! frame parallel is `Q̇ = Q h`, `h = (1/R) Σ_a u_a (E_{a0} − E_{0a})`: `x/R`
-//! tilts towards `q_a` and `q_a` towards `−x/R`, exactly as S² in SO(3). In
-//! the [`So4Algebra`] basis `h = (β, ω) = (u/R, 0)`; the vertical generator of
-//! `q̇ = q·w` is `(0, ω)` with `[ω]× = w`. Nothing is singular anywhere: the
-//! chart (and its singular antipode `−R·1`) enters only through
-//! [`FrameBundle::from_chart`] and [`FrameBundle::to_chart`], which are relative
-//! to the paper's frame `ˡE(R)` (`q = ˡE(x)·u`).
+//! The orthonormal frame bundle of S³(R) as SO(4): see the `FrameBundle`
+//! implementation of [`Sphere3`].
 
 use nalgebra::{Matrix3, Matrix4, Matrix4x3, Vector3, Vector4};
 
@@ -55,6 +39,24 @@ impl Sphere3 {
     }
 }
 
+/// The orthonormal frame bundle of S³(R) as SO(4) (SPEC §3.2).
+///
+/// A bundle element — a point `x ∈ S³(R) ⊂ ℝ⁴` with an orthonormal frame
+/// `(q₁, q₂, q₃)` of `T_xS³` — is the rotation `Q = [x/R | q₁ | q₂ | q₃] ∈ SO(4)`
+/// ([`So4`] stores exactly this matrix). **Orientation:** a frame is positively
+/// oriented when `det Q = +1`. Both of the paper's frames are: along `ˡE(R)`,
+/// `Q = [u | e₁u | e₂u | e₃u]` is right multiplication by the unit quaternion
+/// `u = x/R`, along `ʳE(R)` it is left multiplication; both are the identity at
+/// the chart centre `x = R·1`.
+///
+/// **Horizontal lift.** Moving with velocity `Σ u_a q_a` while transporting the
+/// frame parallel is `Q̇ = Q h`, `h = (1/R) Σ_a u_a (E_{a0} − E_{0a})`: `x/R`
+/// tilts towards `q_a` and `q_a` towards `−x/R`, exactly as S² in SO(3). In
+/// the [`So4Algebra`] basis `h = (β, ω) = (u/R, 0)`; the vertical generator of
+/// `q̇ = q·w` is `(0, ω)` with `[ω]× = w`. Nothing is singular anywhere: the
+/// chart (and its singular antipode `−R·1`) enters only through
+/// [`FrameBundle::from_chart`] and [`FrameBundle::to_chart`], which are relative
+/// to the paper's frame `ˡE(R)` (`q = ˡE(x)·u`).
 impl FrameBundle<3, 4> for Sphere3 {
     type Group = So4;
 

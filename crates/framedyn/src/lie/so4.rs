@@ -1,40 +1,4 @@
-//! SO(4), the rotations of ℝ⁴, with closed-form exponential, logarithm and
-//! `dexp`/`dexp⁻¹` through `so(4) ≅ su(2) ⊕ su(2)`.
-//!
-//! ## Quaternions
-//! ℝ⁴ is identified with the quaternions, components **scalar first**:
-//! `x = (x₀, x₁, x₂, x₃) = x₀ + x₁e₁ + x₂e₂ + x₃e₃`, Hamilton's product
-//! `e₁e₂ = e₃` (the paper's basis `I₂, −iσ_B` of (a171)). Every `R ∈ SO(4)` acts as
-//! `x ↦ p·x·q̄` for a pair of unit quaternions `(p, q)` determined up to a common
-//! sign (Van Elfrinkhof). [`So4::quaternions`] extracts the pair,
-//! [`So4::from_quaternions`] builds the rotation.
-//!
-//! ## Storage
-//! An element is stored as its 4×4 orthogonal matrix. For the frame bundle of
-//! S³ (the main client) the columns are `[x/R | q₁ | q₂ | q₃]`: position and frame
-//! are read off without arithmetic, and a frame given by its vectors is stored
-//! as given. The quaternion pair is computed only where it is needed (`log`,
-//! `renormalize`).
-//!
-//! ## Algebra basis
-//! [`So4Algebra`] holds six coordinates `(β₁, β₂, β₃, ω₁, ω₂, ω₃)` of the skew matrix
-//! ```text
-//!        ⎡ 0   −β₁  −β₂  −β₃ ⎤
-//!  X  =  ⎢ β₁   0   −ω₃   ω₂ ⎥     (rows/columns 0..3)
-//!        ⎢ β₂   ω₃   0   −ω₁ ⎥
-//!        ⎣ β₃  −ω₂   ω₁   0  ⎦
-//! ```
-//! i.e. `X = Σ β_a (E_{a0} − E_{0a}) + [ω]×` on the last three axes. On the frame
-//! bundle of S³, `β` tilts `x/R` towards the `q_a` (translation, the horizontal
-//! lift is `β = u/R`) and `ω` rotates `q₁, q₂, q₃` among themselves (vertical).
-//!
-//! The same matrix acts as `X·x = a·x − x·b` with the pure quaternions
-//! (vectors of ℝ³) `a = (ω + β)/2` (left, self-dual part) and `b = (ω − β)/2`
-//! (right, anti-self-dual part), see [`So4::left_right`]. Brackets split:
-//! `[(a, b), (a', b')] = (2a×a', 2b×b')`, and `exp(X) x = p x q̄` with
-//! `p = exp(a) = (cos|a|, sin|a| â)`, `q = exp(b)`. The rotation angles of `exp X`
-//! are `|a| + |b|` and `||a| − |b||`, the eigenvalues of `ad_X` are
-//! `0, ±2i|a|, ±2i|b|`.
+//! SO(4), the rotations of ℝ⁴: see [`So4`] for the conventions.
 
 use nalgebra::{DMatrix, Matrix4, Quaternion, Vector3, Vector4, Vector6};
 
@@ -42,14 +6,48 @@ use super::special::{cosc, dexpinv, sinc, sinc3};
 use super::LieGroup;
 use crate::{Error, Result};
 
-/// Lie-algebra coordinates of [`So4`]: `(β₁, β₂, β₃, ω₁, ω₂, ω₃)`, see the
-/// [module documentation](self) for the matrix they stand for.
+/// Lie-algebra coordinates of [`So4`]: `(β₁, β₂, β₃, ω₁, ω₂, ω₃)`, see
+/// [`So4`] ("Algebra basis") for the matrix they stand for.
 pub type So4Algebra = Vector6<f64>;
 
-/// A rotation of ℝ⁴ (an element of SO(4)), stored as its orthogonal 4×4 matrix.
+/// A rotation of ℝ⁴ (an element of SO(4)), stored as its orthogonal 4×4 matrix,
+/// with closed-form exponential, logarithm and `dexp`/`dexp⁻¹` through
+/// `so(4) ≅ su(2) ⊕ su(2)`.
 ///
-/// See the [module documentation](self) for the quaternion conventions and
-/// the algebra basis.
+/// ## Quaternions
+/// ℝ⁴ is identified with the quaternions, components **scalar first**:
+/// `x = (x₀, x₁, x₂, x₃) = x₀ + x₁e₁ + x₂e₂ + x₃e₃`, Hamilton's product
+/// `e₁e₂ = e₃` (the paper's basis `I₂, −iσ_B` of (a171)). Every `R ∈ SO(4)` acts as
+/// `x ↦ p·x·q̄` for a pair of unit quaternions `(p, q)` determined up to a common
+/// sign (Van Elfrinkhof). [`So4::quaternions`] extracts the pair,
+/// [`So4::from_quaternions`] builds the rotation.
+///
+/// ## Storage
+/// An element is stored as its 4×4 orthogonal matrix. For the frame bundle of
+/// S³ (the main client) the columns are `[x/R | q₁ | q₂ | q₃]`: position and frame
+/// are read off without arithmetic and composition is one 4×4 product. The
+/// quaternion pair is computed only where it is needed (`log`, `renormalize`,
+/// [`So4::quaternions`]).
+///
+/// ## Algebra basis
+/// [`So4Algebra`] holds six coordinates `(β₁, β₂, β₃, ω₁, ω₂, ω₃)` of the skew matrix
+/// ```text
+///        ⎡ 0   −β₁  −β₂  −β₃ ⎤
+///  X  =  ⎢ β₁   0   −ω₃   ω₂ ⎥     (rows/columns 0..3)
+///        ⎢ β₂   ω₃   0   −ω₁ ⎥
+///        ⎣ β₃  −ω₂   ω₁   0  ⎦
+/// ```
+/// i.e. `X = Σ β_a (E_{a0} − E_{0a}) + [ω]×` on the last three axes. On the frame
+/// bundle of S³, `β` tilts `x/R` towards the `q_a` (translation, the horizontal
+/// lift is `β = u/R`) and `ω` rotates `q₁, q₂, q₃` among themselves (vertical).
+///
+/// The same matrix acts as `X·x = a·x − x·b` with the pure quaternions
+/// (vectors of ℝ³) `a = (ω + β)/2` (left, self-dual part for the orientation
+/// `e₀e₁e₂e₃`) and `b = (ω − β)/2` (right, anti-self-dual part), see [`So4::left_right`]. Brackets split:
+/// `[(a, b), (a', b')] = (2a×a', 2b×b')`, and `exp(X) x = p x q̄` with
+/// `p = exp(a) = (cos|a|, sin|a| â)`, `q = exp(b)`. The rotation angles of `exp X`
+/// are `|a| + |b|` and `||a| − |b||`, the eigenvalues of `ad_X` are
+/// `0, ±2i|a|, ±2i|b|`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct So4 {
     m: Matrix4<f64>,

@@ -1,37 +1,4 @@
-//! The three-sphere S³(R) ⊂ ℝ⁴ (the paper's §6, the "Einstein universe").
-//!
-//! ## Embedding and quaternions
-//! A point is the unit quaternion `u ∈ SU(2)` scaled by `R`, components
-//! **scalar first**: `x = R·u = R·(cos(r/R), sin(r/R) n̄) ∈ ℝ⁴` (the paper's
-//! parametrisation after (a179) puts the scalar part last, as `x⁴`). The
-//! quaternion basis is `1, e₁, e₂, e₃` with `e₁e₂ = e₃` (the paper's `I₂, −iσ_B`).
-//!
-//! ## Chart
-//! The paper's canonical coordinates of the first kind, rescaled (§6,
-//! `r = Rk/2`): `r̄ = (R/2)·k̄ ∈ ℝ³`, `|r̄| = r`, `n̄ = r̄/r`, so that
-//! `u = exp(k̄·a) = exp(r̄·e/R)` (a171). They are Riemann normal coordinates
-//! centred at `R·1`, regular at `r̄ = 0` and singular only on the sphere
-//! `r = πR`, which is the single antipodal point `−R·1`. The metric (a179) is
-//! `g_ij = (R/r)² sin²(r/R) δ_ij + (1 − (R/r)² sin²(r/R)) n_i n_j`.
-//! Every coefficient is evaluated through the entire functions of
-//! [`special`](crate::lie::special) of `s = r²/R²` (or `4s`), never by dividing
-//! by `r`. [`check_chart`](Manifold::check_chart) accepts `r < R(π − `[`S3_CHART_MARGIN`]`)`.
-//!
-//! ## Frames
-//! S³ is parallelizable; the paper uses the SU(2)-invariant orthonormal frames
-//! of (a178a), (a178b) (SPEC §7, "S³ frames"):
-//! - `ˡE(R)_A(x) = e_A·x/R` (quaternion product): the generators of **left**
-//!   translations, hence **right-invariant**, with
-//!   `[ˡE_A, ˡE_B] = −(2/R) ε_ABC ˡE_C` (b178a). This is [`Manifold::frame`],
-//!   also [`Sphere3::frame_l`]; chart components
-//!   `ˡE = (r/R)cot(r/R) I + (1 − (r/R)cot(r/R)) n̄n̄ᵀ − (1/R)[r̄]×`, connection
-//!   coefficients `Γ^A_{BC} = +(1/R) ε_ABC`.
-//! - `ʳE(R)_A(x) = x·e_A/R`: generators of right translations, left-invariant,
-//!   `[ʳE_A, ʳE_B] = +(2/R) ε_ABC ʳE_C` (b178b), [`Sphere3::frame_r`]; chart
-//!   components as above with `+(1/R)[r̄]×`, `Γ^A_{BC} = −(1/R) ε_ABC`.
-//!
-//! The two frames commute (b178c). Conserved quantities of the S³ gyroscope
-//! depend on which one carries the internal configuration (SPEC §7).
+//! The three-sphere S³(R) ⊂ ℝ⁴: see [`Sphere3`] for chart, embedding and frames.
 
 use nalgebra::{Matrix3, Matrix4, Matrix4x3, Vector3, Vector4};
 
@@ -50,8 +17,41 @@ pub const S3_CHART_MARGIN: f64 = 1e-6;
 /// [`Manifold::chart_tangent`] and [`Manifold::distance`].
 pub const S3_POINT_TOLERANCE: f64 = 1e-9;
 
-/// The three-sphere of radius `R` embedded in ℝ⁴ (see the [module
-/// documentation](self) for chart, embedding and frames).
+/// The three-sphere S³(R) ⊂ ℝ⁴ of radius `R` (the paper's §6, the "Einstein
+/// universe").
+///
+/// ## Embedding and quaternions
+/// A point is the unit quaternion `u ∈ SU(2)` scaled by `R`, components
+/// **scalar first**: `x = R·u = R·(cos(r/R), sin(r/R) n̄) ∈ ℝ⁴` (the paper's
+/// parametrisation after (a179) puts the scalar part last, as `x⁴`). The
+/// quaternion basis is `1, e₁, e₂, e₃` with `e₁e₂ = e₃` (the paper's `I₂, −iσ_B`).
+///
+/// ## Chart
+/// The paper's canonical coordinates of the first kind, rescaled (§6,
+/// `r = Rk/2`): `r̄ = (R/2)·k̄ ∈ ℝ³`, `|r̄| = r`, `n̄ = r̄/r`, so that
+/// `u = exp(k̄·a) = exp(r̄·e/R)` (a171). They are Riemann normal coordinates
+/// centred at `R·1`, regular at `r̄ = 0` and singular only on the sphere
+/// `r = πR`, which is the single antipodal point `−R·1`. The metric (a179) is
+/// `g_ij = (R/r)² sin²(r/R) δ_ij + (1 − (R/r)² sin²(r/R)) n_i n_j`.
+/// Every coefficient is evaluated through the entire functions of
+/// [`special`](crate::lie::special) of `s = r²/R²` (or `4s`), never by dividing
+/// by `r`. [`check_chart`](Manifold::check_chart) accepts `r < R(π − `[`S3_CHART_MARGIN`]`)`.
+///
+/// ## Frames
+/// S³ is parallelizable; the paper uses the SU(2)-invariant orthonormal frames
+/// of (a178a), (a178b) (SPEC §7, "S³ frames"):
+/// - `ˡE(R)_A(x) = e_A·x/R` (quaternion product): the generators of **left**
+///   translations, hence **right-invariant**, with
+///   `[ˡE_A, ˡE_B] = −(2/R) ε_ABC ˡE_C` (b178a). This is [`Manifold::frame`],
+///   also [`Sphere3::frame_l`]; chart components
+///   `ˡE = (r/R)cot(r/R) I + (1 − (r/R)cot(r/R)) n̄n̄ᵀ − (1/R)[r̄]×`, connection
+///   coefficients `Γ^A_{BC} = +(1/R) ε_ABC`.
+/// - `ʳE(R)_A(x) = x·e_A/R`: generators of right translations, left-invariant,
+///   `[ʳE_A, ʳE_B] = +(2/R) ε_ABC ʳE_C` (b178b), [`Sphere3::frame_r`]; chart
+///   components as above with `+(1/R)[r̄]×`, `Γ^A_{BC} = −(1/R) ε_ABC`.
+///
+/// The two frames commute (b178c). Conserved quantities of the S³ gyroscope
+/// depend on which one carries the internal configuration (SPEC §7).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sphere3 {
     radius: f64,
