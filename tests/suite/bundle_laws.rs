@@ -88,17 +88,24 @@ pub fn transport_in_chart<B: FrameBundle<N, E>, const N: usize, const E: usize>(
 }
 
 /// Largest violation of the bundle's constraints at `g`: group defect, point
-/// on the manifold, frame vectors tangent and orthonormal in the ambient metric.
+/// on the manifold, frame vectors tangent and orthonormal in the ambient
+/// metric — the last two relative to the Euclidean sizes of the vectors
+/// involved, since on H² far from the origin the components of `q` grow like
+/// cosh(r/R) and their round-off with them.
 pub fn frame_defect<B: FrameBundle<N, E>, const N: usize, const E: usize>(b: &B, g: &B::Group) -> f64 {
     let p = b.position(g);
     let q = b.frame_vectors(g);
     let gram = q.transpose() * b.ambient_metric() * q - SMatrix::<f64, N, N>::identity();
-    let mut tangent: f64 = 0.0;
+    let norms: Vec<f64> = (0..N).map(|a| q.column(a).norm()).collect();
+    let mut worst: f64 = 0.0;
     for a in 0..N {
         let qa: SVector<f64, E> = q.column(a).into();
-        tangent = tangent.max((b.project_tangent(&p, &qa) - qa).amax());
+        worst = worst.max((b.project_tangent(&p, &qa) - qa).amax() / norms[a]);
+        for c in 0..N {
+            worst = worst.max(gram[(a, c)].abs() / (norms[a] * norms[c]));
+        }
     }
-    b.bundle_defect(g).max(b.point_defect(&p)).max(gram.amax()).max(tangent)
+    b.bundle_defect(g).max(b.point_defect(&p)).max(worst)
 }
 
 /// Checks at chart point `x` with frame rotation `u` (`q = E(x)·u`):
@@ -136,18 +143,25 @@ pub fn check_bundle_at<B: FrameBundle<N, E>, const N: usize, const E: usize>(
     let gf = b.from_frame(&p, &q_expected).map_err(|e| format!("from_frame failed: {e}"))?;
     check("from_frame = from_chart", (b.frame_vectors(&gf) - q_expected).amax(), tol)?;
 
-    // Horizontal lift: first and second derivatives along g·exp(εξ).
+    // Horizontal lift: first and second derivatives along g·exp(εξ). The step
+    // shrinks with |ξ|; errors are relative to the size of the frame vectors
+    // (which grow like cosh(r/R) on H²) times the speed.
     let xi = b.horizontal_lift(&g, v);
-    let eps = 1e-4;
+    let eps = 1e-4 / (1.0 + xi.amax());
+    let qsize = b.frame_vectors(&g).amax().max(1.0);
     let at = |s: f64| <B::Group as LieGroup>::exp(&(xi * s));
     let (gp, gm) = (g.compose(&at(eps)), g.compose(&at(-eps)));
     let vel = (b.position(&gp) - b.position(&gm)) / (2.0 * eps);
     let vel_expected = b.frame_vectors(&g) * v;
-    check("horizontal lift: ẋ = Σ v_a q_a", (vel - vel_expected).amax() / (1.0 + v.amax()), 1e-7)?;
+    check("horizontal lift: ẋ = Σ v_a q_a", (vel - vel_expected).amax() / (qsize * (1.0 + v.amax())), 1e-7)?;
     let qdot = (b.frame_vectors(&gp) - b.frame_vectors(&gm)) / (2.0 * eps);
     for a in 0..N {
         let d: SVector<f64, E> = qdot.column(a).into();
-        check("horizontal lift: q̇_a normal (parallel)", b.project_tangent(&p, &d).amax() / (1.0 + v.amax()), 1e-7)?;
+        check(
+            "horizontal lift: q̇_a normal (parallel)",
+            b.project_tangent(&p, &d).amax() / (qsize * qsize * (1.0 + v.amax())),
+            1e-7,
+        )?;
     }
     // Vertical: point fixed, q̇ = q w.
     let mut w = SMatrix::<f64, N, N>::zeros();
@@ -159,11 +173,12 @@ pub fn check_bundle_at<B: FrameBundle<N, E>, const N: usize, const E: usize>(
         }
     }
     let zeta = b.vertical(&g, &w);
+    let eps = 1e-4 / (1.0 + zeta.amax());
     let at = |s: f64| <B::Group as LieGroup>::exp(&(zeta * s));
     let (gp, gm) = (g.compose(&at(eps)), g.compose(&at(-eps)));
-    check("vertical: point fixed", (b.position(&gp) - b.position(&gm)).amax() / (2.0 * eps), 1e-7)?;
+    check("vertical: point fixed", (b.position(&gp) - b.position(&gm)).amax() / (2.0 * eps * qsize), 1e-7)?;
     let qdot = (b.frame_vectors(&gp) - b.frame_vectors(&gm)) / (2.0 * eps);
-    check("vertical: q̇ = q w", (qdot - b.frame_vectors(&g) * w).amax(), 1e-7)?;
+    check("vertical: q̇ = q w", (qdot - b.frame_vectors(&g) * w).amax() / qsize, 1e-7)?;
     Ok(())
 }
 

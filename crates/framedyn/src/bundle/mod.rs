@@ -14,9 +14,9 @@
 //! **Vertical generator.** Rotating the frame in place, `q̇ = q·w` with `w`
 //! skew, is `ġ = g · vertical(g, w)`.
 
-mod hyperbolic2;
-mod sphere2;
-mod sphere3;
+pub mod hyperbolic2;
+pub mod sphere2;
+pub mod sphere3;
 mod torus2;
 
 #[allow(unused_imports)]

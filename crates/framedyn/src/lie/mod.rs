@@ -18,15 +18,15 @@
 mod co;
 mod gl;
 mod product;
-mod rn;
+pub mod rn;
 mod sl;
-mod so12;
-mod so2;
-mod so3;
-mod so4;
+pub mod so12;
+pub mod so2;
+pub mod so3;
+pub mod so4;
 mod son;
 pub mod special;
-mod su2;
+pub mod su2;
 
 #[allow(unused_imports)]
 pub use co::*;

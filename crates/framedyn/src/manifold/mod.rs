@@ -18,9 +18,9 @@
 //!   `Γ^A_{BC} = frame_connection(x)[A][B][C]` with `∇_{E_C} E_B = Γ^A_{BC} E_A`;
 //!   for an orthonormal frame they are skew in `A, B`.
 
-mod hyperbolic2;
-mod sphere2;
-mod sphere3;
+pub mod hyperbolic2;
+pub mod sphere2;
+pub mod sphere3;
 mod torus2;
 
 #[allow(unused_imports)]
