@@ -155,6 +155,11 @@ pub fn check_bundle_at<B: FrameBundle<N, E>, const N: usize, const E: usize>(
     let vel_expected = b.frame_vectors(&g) * v;
     check("horizontal lift: ẋ = Σ v_a q_a", (vel - vel_expected).amax() / (qsize * (1.0 + v.amax())), 1e-7)?;
     let qdot = (b.frame_vectors(&gp) - b.frame_vectors(&gm)) / (2.0 * eps);
+    let (vel_exact, qdot_exact) = b.frame_velocity(&g, &xi);
+    check("frame_velocity (point) = FD", (vel_exact - vel).amax() / (qsize * (1.0 + v.amax())), 1e-7)?;
+    check("frame_velocity (frame) = FD", (qdot_exact - qdot).amax() / (qsize * qsize * (1.0 + v.amax())), 1e-7)?;
+    let k_chart = b.sectional_curvature(x, &e.column(0).into(), &e.column(1).into());
+    check("curvature_at = sectional curvature", (b.curvature_at(&g) - k_chart).abs() / (1.0 + k_chart.abs()), 1e-12)?;
     for a in 0..N {
         let d: SVector<f64, E> = qdot.column(a).into();
         check(

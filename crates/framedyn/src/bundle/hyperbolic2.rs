@@ -143,6 +143,17 @@ impl FrameBundle<2, 3> for Hyperbolic2 {
     fn bundle_defect(&self, g: &So12) -> f64 {
         g.constraint_defect()
     }
+
+    /// `Λ̇ = Λ·hat(ξ)`: `ẋ = R·(Λ̇)₂`, `q̇ = (Λ̇)₀,₁`.
+    fn frame_velocity(&self, g: &So12, xi: &SVector<f64, 3>) -> (SVector<f64, 3>, SMatrix<f64, 3, 2>) {
+        let ldot = g.matrix() * So12::hat(xi);
+        (ldot.column(2) * self.radius(), ldot.fixed_columns::<2>(0).into_owned())
+    }
+
+    /// `K = −1/R²`.
+    fn curvature_at(&self, _g: &So12) -> f64 {
+        self.curvature()
+    }
 }
 
 /// An element of the orthonormal frame bundle of H²(R) (SPEC §3.2, §7), as

@@ -61,4 +61,21 @@ pub trait FrameBundle<const N: usize, const E: usize>: Manifold<N, E> {
     fn vertical(&self, g: &Self::Group, w: &SMatrix<f64, N, N>) -> <Self::Group as LieGroup>::Algebra;
     /// Distance of `g` from the bundle (group constraint and, for T², none).
     fn bundle_defect(&self, g: &Self::Group) -> f64;
+
+    /// Ambient velocities `(ẋ, q̇)` of the point and of the frame vectors when
+    /// the bundle element moves by `ġ = g·ξ` (exact, no differencing). For the
+    /// horizontal lift of `u` this gives `ẋ = Σ u_a q_a` and `q̇_b = −II(ẋ, q_b)`
+    /// (the second fundamental form: normal, as parallel transport requires) —
+    /// what the forces `F̂_a = −H_a V` of a frame-dependent potential need.
+    fn frame_velocity(
+        &self,
+        g: &Self::Group,
+        xi: &<Self::Group as LieGroup>::Algebra,
+    ) -> (SVector<f64, E>, SMatrix<f64, E, N>);
+
+    /// Sectional curvature `K` at the point of `g`. For all manifolds here
+    /// (two-dimensional, or of constant curvature) the Riemann tensor in any
+    /// orthonormal frame is `R̂_{abcd} = K(δ_ac δ_bd − δ_ad δ_bc)`, so `K` is
+    /// all the spin–curvature force of (a59) needs.
+    fn curvature_at(&self, g: &Self::Group) -> f64;
 }

@@ -125,4 +125,15 @@ impl FrameBundle<2, 3> for Sphere2 {
     fn bundle_defect(&self, g: &So3) -> f64 {
         g.constraint_defect()
     }
+
+    /// `Q̇ = Q·hat(ξ)`: `ẋ = R·(Q̇)₀`, `q̇ = (Q̇)₁,₂`.
+    fn frame_velocity(&self, g: &So3, xi: &Vector3<f64>) -> (Vector3<f64>, Matrix3x2<f64>) {
+        let qdot = g.matrix() * So3::hat(xi);
+        (qdot.column(0) * self.radius(), qdot.fixed_columns::<2>(1).into_owned())
+    }
+
+    /// `K = 1/R²`.
+    fn curvature_at(&self, _g: &So3) -> f64 {
+        self.curvature()
+    }
 }
