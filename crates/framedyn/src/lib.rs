@@ -12,12 +12,18 @@
 //!   manifolds in the paper's coordinates and frames;
 //! - [`bundle`]: the orthonormal frame bundle of each manifold in a global,
 //!   chart-free representation, with the horizontal lift (parallel transport);
+//! - [`body`]: the bodies (point, gyroscope, affine and constrained affine)
+//!   and their parameters;
+//! - [`dynamics`]: equations of motion in the frame-bundle form, as
+//!   left-trivialised vector fields on Lie groups;
 //! - [`potential`]: potentials `V(x, e)` written once, generic over dual
 //!   numbers, so forces and torques come by automatic differentiation.
 #![deny(missing_docs)]
 #![deny(unsafe_code)]
 
+pub mod body;
 pub mod bundle;
+pub mod dynamics;
 pub mod error;
 pub mod lie;
 pub mod manifold;

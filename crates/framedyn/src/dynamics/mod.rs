@@ -1,0 +1,67 @@
+//! Equations of motion in the singularity-free frame-bundle form (SPEC §3.2).
+//!
+//! A [`System`] is a vector field on a Lie group of states (frame bundle ×
+//! fibre group × velocities/momenta, built with [`Product`](crate::lie::Product)
+//! and [`Rn`](crate::lie::Rn)), given left-trivialised: `ẏ = y·f(t, y)`.
+//! That is the form every Lie-group integrator consumes.
+//!
+//! The generalised forces of a potential `V(x, e)` (paper §4, after (a53)) are
+//! computed once here, for every manifold:
+//! - horizontal force `F̂_a = −H_a V`: the derivative of `V` when the point
+//!   moves along `q_a` and the body frame is parallel-transported,
+//!   `F̂_a = −(∂_x V·q_a + Σ_b ∂_{e_b}V·δ_a e_b)` with `δ_a e = (δ_a q)·ρ` and
+//!   `δ_a q` from [`FrameBundle::frame_velocity`];
+//! - internal force `∂V/∂ρ = qᵀ·∂_e V` for the body frame `e = q·ρ`.
+
+use nalgebra::{SMatrix, SVector};
+
+use crate::bundle::FrameBundle;
+use crate::lie::LieGroup;
+use crate::potential::Gradient;
+
+/// A left-trivialised vector field `ẏ = y·f(t, y)` on a Lie group of states,
+/// with its conserved energy and the distance of a state from its constraints.
+pub trait System: Send + Sync {
+    /// The group the states live in.
+    type State: LieGroup;
+    /// `f(t, y)`.
+    fn vector_field(&self, t: f64, y: &Self::State) -> <Self::State as LieGroup>::Algebra;
+    /// Total energy `T + V` (conserved when the potential does not depend on `t`).
+    fn energy(&self, y: &Self::State) -> f64;
+    /// Distance of `y` from the state manifold (group constraints, frames
+    /// orthonormal, …); 0 up to round-off along an exact solution.
+    fn defect(&self, y: &Self::State) -> f64;
+}
+
+/// The horizontal force `F̂_a = −H_a V` in the parallel frame `q` of `g`, for
+/// the body frame `e = q·ρ` and the gradient `grad` of `V` at `(x, e)`.
+/// `frame_dependent = false` skips the frame term (potentials `V(x)`).
+pub fn horizontal_force<B: FrameBundle<N, E>, const N: usize, const E: usize>(
+    bundle: &B,
+    g: &B::Group,
+    rho: &SMatrix<f64, N, N>,
+    grad: &Gradient<N, E>,
+    frame_dependent: bool,
+) -> SVector<f64, N> {
+    let q = bundle.frame_vectors(g);
+    let mut f = -(q.transpose() * grad.dx);
+    if frame_dependent {
+        for a in 0..N {
+            let mut unit = SVector::<f64, N>::zeros();
+            unit[a] = 1.0;
+            let (_, dq) = bundle.frame_velocity(g, &bundle.horizontal_lift(g, &unit));
+            let de = dq * rho;
+            f[a] -= grad.de.component_mul(&de).sum();
+        }
+    }
+    f
+}
+
+/// `∂V/∂ρ = qᵀ·∂_e V` for the body frame `e = q·ρ` (entry `(c, b)` is
+/// `∂V/∂ρ_{cb}`); the internal (vertical) generalised force is its negative.
+pub fn internal_gradient<const N: usize, const E: usize>(
+    q: &SMatrix<f64, E, N>,
+    grad: &Gradient<N, E>,
+) -> SMatrix<f64, N, N> {
+    q.transpose() * grad.de
+}
