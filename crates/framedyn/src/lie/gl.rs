@@ -751,18 +751,23 @@ pub(crate) mod matfun {
                 return None;
             }
             let m = hi;
-            let (mut s, mut t) = (
-                h[(m - 1, m - 1)] + h[(m, m)],
-                h[(m - 1, m - 1)] * h[(m, m)] - h[(m - 1, m)] * h[(m, m - 1)],
-            );
+            // Shifts: the eigenvalues of the trailing 2×2 block, through
+            // x + y = σ₁ + σ₂ and xy − w = σ₁σ₂ (exceptional shifts of EISPACK
+            // hqr every 10 iterations). First column of (H − σ₁)(H − σ₂)
+            // scaled by 1/h₁₀, in the differences form of hqr, which does not
+            // cancel when all eigenvalues are close (e.g. near-identity input).
+            let (mut xs, mut ys, mut w) = (h[(m, m)], h[(m - 1, m - 1)], h[(m, m - 1)] * h[(m - 1, m)]);
             if iter % 10 == 0 {
-                let x = h[(m, m - 1)].abs() + h[(m - 1, m - 2)].abs();
-                s = 1.5 * x + h[(m, m)];
-                t = x * x;
+                let e = h[(m, m - 1)].abs() + h[(m - 1, m - 2)].abs();
+                xs = h[(m, m)] + 0.75 * e;
+                ys = xs;
+                w = -0.4375 * e * e;
             }
-            let mut x = h[(l, l)] * h[(l, l)] + h[(l, l + 1)] * h[(l + 1, l)] - s * h[(l, l)] + t;
-            let mut y = h[(l + 1, l)] * (h[(l, l)] + h[(l + 1, l + 1)] - s);
-            let mut z = h[(l + 1, l)] * h[(l + 2, l + 1)];
+            let z0 = h[(l, l)];
+            let (r1, s1) = (xs - z0, ys - z0);
+            let mut x = (r1 * s1 - w) / h[(l + 1, l)] + h[(l, l + 1)];
+            let mut y = h[(l + 1, l + 1)] - z0 - r1 - s1;
+            let mut z = h[(l + 2, l + 1)];
             for rs in l..=m - 2 {
                 let (v, beta) = house([x, y, z], 3);
                 if beta != 0.0 {
