@@ -15,16 +15,16 @@
 //!   B₁ = −½), convergent for the spectral radius of `ad_a` below 2π.
 //!   For `ġ = g·ξ` with `g = g₀ exp(a)` one has `ȧ = dexp_inv(−a, ξ)`.
 
-mod co;
-mod gl;
-mod product;
+pub mod co;
+pub mod gl;
+pub mod product;
 pub mod rn;
-mod sl;
+pub mod sl;
 pub mod so12;
 pub mod so2;
 pub mod so3;
 pub mod so4;
-mod son;
+pub mod son;
 pub mod special;
 pub mod su2;
 
