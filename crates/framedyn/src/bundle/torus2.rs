@@ -1,40 +1,12 @@
-//! The orthonormal frame bundle of the torus T²(L, R) in the global angles
-//! `(θ, φ, a)` (SPEC §3.2, §7).
-//!
-//! A bundle element is stored as `Rn<3>` holding `(θ, φ, a)`: the point with
-//! chart angles `(θ, φ)` and the frame
-//! `(q₁, q₂) = (E_θ, E_φ)·U(a)`, `U(a) = [[cos a, −sin a], [sin a, cos a]]`,
-//! i.e. `q₁ = cos a E_θ + sin a E_φ`, `q₂ = −sin a E_θ + cos a E_φ`, positively
-//! oriented with respect to the paper's frame field `(E_θ, E_φ)` (l.5345).
-//! The three angles are unbounded in the group (an integrator just adds to
-//! them); [`FrameBundle::to_chart`] and [`Manifold::chart`] reduce `θ, φ` to
-//! `(−π, π]`, and `a` enters only through `U(a)`.
-//!
-//! **Horizontal lift** (parallel transport, `ġ = g·ξ = ξ` in the additive
-//! group): for frame velocity components `u` the chart velocity components are
-//! `v = U(a) u` in `(E_θ, E_φ)` and
-//! `θ̇ = v₁/R`, `φ̇ = v₂/(L + R cos θ)`, `ȧ = +sin θ · φ̇`.
-//!
-//! *Derivation of the sign.* From the embedding, `∂_φ Ê_θ = −sin θ Ê_φ` and the
-//! tangential part of `∂_φ Ê_φ` is `+sin θ Ê_θ`; `∂_θ Ê_θ = −n` and `∂_θ Ê_φ = 0`.
-//! Hence `D q₁/dt = ȧ q₂ + cos a (−sin θ φ̇ Ê_φ) + sin a (sin θ φ̇ Ê_θ)
-//! = (ȧ − sin θ φ̇) q₂`, which vanishes (parallel transport) iff
-//! `ȧ = sin θ φ̇`. Equivalently the frame field turns by `−sin θ φ̇` relative to a
-//! parallel frame, so the gyroscope's angular velocity relative to `(E_θ, E_φ)`
-//! is `ψ̇ − sin θ φ̇`; the paper's `ψ̇ + sin θ φ̇` (l.5362, l.5486) belongs to the
-//! ordering `(E_φ, E_θ)` (SPEC §8). The bundle law "`q̇_a` has no tangential
-//! component" tests this sign. Around the parallel `θ = θ₀` (`φ: 0 → 2π`) the
-//! frame turns by `2π sin θ₀` relative to `E`; the difference between two
-//! parallels is `∫K dA = 2π (sin θ₂ − sin θ₁)` (Gauss–Bonnet).
-//!
-//! **Vertical generator**: `q̇ = q w` (`w` skew) is `ȧ = w₂₁`.
+//! The orthonormal frame bundle of the torus T²(L, R): see the
+//! `FrameBundle` implementation of [`Torus2`].
 
 use nalgebra::{SMatrix, SVector};
 
 use super::FrameBundle;
 use crate::error::finite;
 use crate::lie::Rn;
-use crate::manifold::{wrap_angle, Manifold, Torus2};
+use crate::manifold::{Manifold, Torus2};
 use crate::{Error, Result};
 
 /// Tolerance of the frame checks in [`FrameBundle::from_frame`] and
@@ -55,6 +27,36 @@ fn frame_field(theta: f64, phi: f64) -> (SMatrix<f64, 3, 2>, SVector<f64, 3>) {
     (e, SVector::<f64, 3>::new(ct * cp, ct * sp, st))
 }
 
+/// The orthonormal frame bundle of the torus T²(L, R) in the global angles
+/// `(θ, φ, a)` (SPEC §3.2, §7).
+///
+/// A bundle element is stored as `Rn<3>` holding `(θ, φ, a)`: the point with
+/// chart angles `(θ, φ)` and the frame
+/// `(q₁, q₂) = (E_θ, E_φ)·U(a)`, `U(a) = [[cos a, −sin a], [sin a, cos a]]`,
+/// i.e. `q₁ = cos a E_θ + sin a E_φ`, `q₂ = −sin a E_θ + cos a E_φ`, positively
+/// oriented with respect to the paper's frame field `(E_θ, E_φ)` (l.5345).
+/// The three angles are unbounded in the group (an integrator just adds to
+/// them); [`FrameBundle::to_chart`] and [`Manifold::chart`] reduce `θ, φ` to
+/// `(−π, π]`, and `a` enters only through `U(a)`.
+///
+/// **Horizontal lift** (parallel transport, `ġ = g·ξ = ξ` in the additive
+/// group): for frame velocity components `u` the chart velocity components are
+/// `v = U(a) u` in `(E_θ, E_φ)` and
+/// `θ̇ = v₁/R`, `φ̇ = v₂/(L + R cos θ)`, `ȧ = +sin θ · φ̇`.
+///
+/// *Derivation of the sign.* From the embedding, `∂_φ Ê_θ = −sin θ Ê_φ` and the
+/// tangential part of `∂_φ Ê_φ` is `+sin θ Ê_θ`; `∂_θ Ê_θ = −n` and `∂_θ Ê_φ = 0`.
+/// Hence `D q₁/dt = ȧ q₂ + cos a (−sin θ φ̇ Ê_φ) + sin a (sin θ φ̇ Ê_θ)
+/// = (ȧ − sin θ φ̇) q₂`, which vanishes (parallel transport) iff
+/// `ȧ = sin θ φ̇`. Equivalently the frame field turns by `−sin θ φ̇` relative to a
+/// parallel frame, so the gyroscope's angular velocity relative to `(E_θ, E_φ)`
+/// is `ψ̇ − sin θ φ̇`; the paper's `ψ̇ + sin θ φ̇` (l.5362, l.5486) belongs to the
+/// ordering `(E_φ, E_θ)` (SPEC §8). The bundle law "`q̇_a` has no tangential
+/// component" tests this sign. Around the parallel `θ = θ₀` (`φ: 0 → 2π`) the
+/// frame turns by `2π sin θ₀` relative to `E`; the difference between two
+/// parallels is `∫K dA = 2π (sin θ₂ − sin θ₁)` (Gauss–Bonnet).
+///
+/// **Vertical generator**: `q̇ = q w` (`w` skew) is `ȧ = w₂₁`.
 impl FrameBundle<2, 3> for Torus2 {
     type Group = Rn<3>;
 
@@ -140,7 +142,7 @@ impl FrameBundle<2, 3> for Torus2 {
     /// `((θ, φ) reduced to (−π, π], U(a))`. Errors: [`Error::NotFinite`].
     fn to_chart(&self, g: &Rn<3>) -> Result<(SVector<f64, 2>, SMatrix<f64, 2, 2>)> {
         finite("g", g.0.iter())?;
-        Ok((SVector::<f64, 2>::new(wrap_angle(g.0[0]), wrap_angle(g.0[1])), rot(g.0[2])))
+        Ok((SVector::<f64, 2>::new(Torus2::reduce_angle(g.0[0]), Torus2::reduce_angle(g.0[1])), rot(g.0[2])))
     }
 
     /// `v = U(a) u`; `ξ = (v₁/R, v₂/ρ, sin θ · v₂/ρ)`, `ρ = L + R cos θ`.

@@ -1,33 +1,4 @@
-//! The torus of revolution T²(L, R) of the paper's §5.3 ("Toroidal case",
-//! LaTeX source from l.5221), with the induced metric of Euclidean ℝ³.
-//!
-//! - `L` is the distance of the tube centre from the symmetry axis, `R` the tube
-//!   radius, `L > R > 0` (a ring torus; the paper's `T²(0, L, R)`).
-//! - Chart: the global angles `(θ, φ)` of the paper (l.5240–5245): `θ` the
-//!   "around-tyre" angle measured from the outer equator, `φ` the "along-tyre"
-//!   angle about the `z` axis. Embedding
-//!   `x = ((L + R cos θ) cos φ, (L + R cos θ) sin φ, R sin θ)`.
-//! - Metric (l.5263): `ds² = R² dθ² + ρ(θ)² dφ²`, `ρ(θ) = L + R cos θ` the
-//!   distance from the axis; `√|g| = R ρ` (l.5318).
-//! - Christoffel symbols (l.5335–5339): `Γ^φ_{θφ} = Γ^φ_{φθ} = −R sin θ/ρ`,
-//!   `Γ^θ_{φφ} = (L/R + cos θ) sin θ = ρ sin θ / R`; all others vanish.
-//! - Gaussian curvature `K = cos θ / (R ρ)`: positive on the outer half
-//!   `|θ| < π/2`, negative on the inner half, `∫K dA = 0` over the torus.
-//! - Frame field (l.5345–5348): `E_θ = R⁻¹ ∂_θ`, `E_φ = ρ⁻¹ ∂_φ`, global and
-//!   orthonormal. With `Ê_θ = (−sin θ cos φ, −sin θ sin φ, cos θ)`,
-//!   `Ê_φ = (−sin φ, cos φ, 0)` its embedded vectors and `n = (cos θ cos φ,
-//!   cos θ sin φ, sin θ)` the outward normal, `Ê_θ × Ê_φ = −n`: the orientation
-//!   of `(E_θ, E_φ)` is the one whose normal points *into* the tube.
-//! - Frame connection: `∇_{E_φ} E_θ = −(sin θ/ρ) E_φ`, `∇_{E_φ} E_φ = (sin θ/ρ) E_θ`,
-//!   `∇_{E_θ} E_B = 0`, i.e. `Γ^φ_{θφ} = −sin θ/ρ`, `Γ^θ_{φφ} = +sin θ/ρ`. Along a
-//!   curve the frame turns relative to itself by `Γ(E)(ẋ) = −sin θ φ̇ ε`
-//!   (`ε` the rotation generator `[[0, −1], [1, 0]]`), so the gyroscope angular
-//!   velocity relative to `(E_θ, E_φ)` is `ω = ψ̇ − sin θ φ̇`. The paper's
-//!   `ψ̇ + sin θ φ̇` (l.5362, l.5486) holds for the opposite frame ordering
-//!   `(E_φ, E_θ)` (SPEC §8); the dynamics are equivalent.
-//!
-//! The geodesic distance has no closed form; [`Torus2::minimal_geodesic`]
-//! computes it by shooting (see its documentation for the method and accuracy).
+//! The torus of revolution T²(L, R) of the paper's §5.3: see [`Torus2`].
 
 use nalgebra::{SMatrix, SVector};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
@@ -40,10 +11,39 @@ use crate::{Error, Result};
 /// accepted by [`Manifold::chart`] and the bundle constructors.
 pub const TORUS_POINT_TOLERANCE: f64 = 1e-9;
 
-/// The ring torus T²(L, R) embedded in Euclidean ℝ³, `L > R > 0`.
+/// The torus of revolution T²(L, R) of the paper's §5.3 ("Toroidal case",
+/// LaTeX source from l.5221), with the induced metric of Euclidean ℝ³.
 ///
-/// See the [module documentation](self) for the chart, metric, curvature and
-/// frame. All lengths are in the units of `L` and `R`.
+/// - `L` is the distance of the tube centre from the symmetry axis, `R` the tube
+///   radius, `L > R > 0` (a ring torus; the paper's `T²(0, L, R)`).
+/// - Chart: the global angles `(θ, φ)` of the paper (l.5240–5245): `θ` the
+///   "around-tyre" angle measured from the outer equator, `φ` the "along-tyre"
+///   angle about the `z` axis. Embedding
+///   `x = ((L + R cos θ) cos φ, (L + R cos θ) sin φ, R sin θ)`.
+/// - Metric (l.5263): `ds² = R² dθ² + ρ(θ)² dφ²`, `ρ(θ) = L + R cos θ` the
+///   distance from the axis; `√|g| = R ρ` (l.5318).
+/// - Christoffel symbols (l.5335–5339): `Γ^φ_{θφ} = Γ^φ_{φθ} = −R sin θ/ρ`,
+///   `Γ^θ_{φφ} = (L/R + cos θ) sin θ = ρ sin θ / R`; all others vanish.
+/// - Gaussian curvature `K = cos θ / (R ρ)`: positive on the outer half
+///   `|θ| < π/2`, negative on the inner half, `∫K dA = 0` over the torus.
+/// - Frame field (l.5345–5348): `E_θ = R⁻¹ ∂_θ`, `E_φ = ρ⁻¹ ∂_φ`, global and
+///   orthonormal. With `Ê_θ = (−sin θ cos φ, −sin θ sin φ, cos θ)`,
+///   `Ê_φ = (−sin φ, cos φ, 0)` its embedded vectors and `n = (cos θ cos φ,
+///   cos θ sin φ, sin θ)` the outward normal, `Ê_θ × Ê_φ = −n`: the orientation
+///   of `(E_θ, E_φ)` is the one whose normal points *into* the tube.
+/// - Frame connection: `∇_{E_φ} E_θ = −(sin θ/ρ) E_φ`, `∇_{E_φ} E_φ = (sin θ/ρ) E_θ`,
+///   `∇_{E_θ} E_B = 0`, i.e. `Γ^φ_{θφ} = −sin θ/ρ`, `Γ^θ_{φφ} = +sin θ/ρ`. Along a
+///   curve the frame turns relative to itself by `Γ(E)(ẋ) = −sin θ φ̇ ε`
+///   (`ε` the rotation generator `[[0, −1], [1, 0]]`), so the gyroscope angular
+///   velocity relative to `(E_θ, E_φ)` is `ω = ψ̇ − sin θ φ̇`. The paper's
+///   `ψ̇ + sin θ φ̇` (l.5362, l.5486) holds for the opposite frame ordering
+///   `(E_φ, E_θ)` (SPEC §8); the dynamics are equivalent.
+///
+/// The geodesic distance has no closed form; [`Torus2::minimal_geodesic`]
+/// computes it from Clairaut quadratures and geodesic shooting (see its
+/// documentation for the method and accuracy).
+///
+/// All lengths are in the units of `L` and `R`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Torus2 {
     big_l: f64,
@@ -63,12 +63,12 @@ pub struct TorusGeodesic {
     pub start: SVector<f64, 2>,
     /// End point in the universal cover (the unrolled chart ℝ²):
     /// `(θ₁ + Δθ, φ₁ + Δφ)`, with `|Δφ| ≤ π` and `|Δθ| < 3π`; it is congruent to
-    /// the target point modulo 2π in each angle.
+    /// the target point modulo 2π in each angle (`θ` to the solver's accuracy).
     pub end_lift: SVector<f64, 2>,
 }
 
 /// Reduces an angle to `(−π, π]`.
-pub fn wrap_angle(a: f64) -> f64 {
+fn wrap_angle(a: f64) -> f64 {
     let r = (a + PI).rem_euclid(TAU) - PI;
     if r <= -PI {
         r + TAU
@@ -78,6 +78,12 @@ pub fn wrap_angle(a: f64) -> f64 {
 }
 
 impl Torus2 {
+    /// Reduces an angle to `(−π, π]`, the range of the chart angles
+    /// (`−π` maps to `π`).
+    pub fn reduce_angle(a: f64) -> f64 {
+        wrap_angle(a)
+    }
+
     /// The torus with tube-centre distance `big_l` (`L`) and tube radius
     /// `small_r` (`R`). Errors: [`Error::InvalidParameter`] for `R` unless finite
     /// and `> 0`, for `L` unless finite and `> R`.
@@ -232,7 +238,10 @@ impl Torus2 {
     /// the geodesic that leaves the chart point `x` with unit velocity
     /// `cos α E_θ + sin α E_φ` (`α = direction`) and has length `length ≥ 0`.
     /// Integrated with the extrapolation integrator of
-    /// [`Self::minimal_geodesic`] (step tolerance 10⁻¹⁴).
+    /// [`Self::minimal_geodesic`] (step tolerance 10⁻¹⁴). Errors:
+    /// [`Error::NotFinite`] for `x`, [`Error::InvalidParameter`] for `direction`
+    /// or `length`, [`Error::NoConvergence`] if the step budget (10⁵ steps of at
+    /// most `4R`) is exhausted.
     pub fn geodesic_endpoint(&self, x: &SVector<f64, 2>, direction: f64, length: f64) -> Result<SVector<f64, 2>> {
         finite("x", x.iter())?;
         if !direction.is_finite() {
