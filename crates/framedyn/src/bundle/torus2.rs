@@ -166,4 +166,28 @@ impl FrameBundle<2, 3> for Torus2 {
             f64::INFINITY
         }
     }
+
+    /// For `ξ = (θ̇, φ̇, ȧ)`: `ẋ = Rθ̇ Ê_θ + (L + R cos θ)φ̇ Ê_φ`;
+    /// `dÊ_θ/dt = −θ̇ n − sin θ φ̇ Ê_φ`, `dÊ_φ/dt = −φ̇ (cos φ, sin φ, 0)`;
+    /// `q̇₁ = ȧ q₂ + cos a dÊ_θ + sin a dÊ_φ`, `q̇₂ = −ȧ q₁ − sin a dÊ_θ + cos a dÊ_φ`.
+    fn frame_velocity(&self, g: &Rn<3>, xi: &SVector<f64, 3>) -> (SVector<f64, 3>, SMatrix<f64, 3, 2>) {
+        let (theta, phi, a) = (g.0[0], g.0[1], g.0[2]);
+        let (td, pd, ad) = (xi[0], xi[1], xi[2]);
+        let (e, n) = frame_field(theta, phi);
+        let (et, ep): (SVector<f64, 3>, SVector<f64, 3>) = (e.column(0).into(), e.column(1).into());
+        let xdot = et * (self.small_r() * td) + ep * (self.rho(theta) * pd);
+        let (sp, cp) = phi.sin_cos();
+        let d_et = -n * td - ep * (theta.sin() * pd);
+        let d_ep = SVector::<f64, 3>::new(-cp, -sp, 0.0) * pd;
+        let (sa, ca) = a.sin_cos();
+        let (q1, q2) = (et * ca + ep * sa, -et * sa + ep * ca);
+        let dq1 = q2 * ad + d_et * ca + d_ep * sa;
+        let dq2 = -q1 * ad - d_et * sa + d_ep * ca;
+        (xdot, SMatrix::<f64, 3, 2>::from_columns(&[dq1, dq2]))
+    }
+
+    /// `K = cos θ / (R (L + R cos θ))`.
+    fn curvature_at(&self, g: &Rn<3>) -> f64 {
+        self.gaussian_curvature(g.0[0])
+    }
 }
