@@ -5,7 +5,7 @@
 //! the `dexp⁻¹` series.
 
 use crate::lie_law_suite;
-use crate::lie_laws::{alg_rel_diff, expm_reference, mat_rel_diff};
+use crate::lie_laws::expm_reference;
 use framedyn::lie::*;
 use nalgebra::DMatrix;
 
@@ -767,4 +767,277 @@ fn typed_errors() {
     let c = Co::<2>::from_matrix(M2::new(0.0, -3.0, 3.0, 0.0)).unwrap();
     assert!((c.lambda() - 3.0).abs() <= 2.0 * EPS * 3.0);
     assert!((c.rotation().matrix() - M2::new(0.0, -1.0, 1.0, 0.0)).amax() <= EPS);
+}
+
+// ---------------------------------------------------------------------------
+// Truncation order of the dexp⁻¹ series (the hook of the RKMK order tests)
+// ---------------------------------------------------------------------------
+
+/// Least-squares slope of log(err) against log(h).
+fn loglog_slope(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    let (sx, sy) = points
+        .iter()
+        .fold((0.0, 0.0), |(a, b), &(h, e)| (a + h.ln(), b + e.ln()));
+    let (mx, my) = (sx / n, sy / n);
+    let (num, den) = points.iter().fold((0.0, 0.0), |(a, b), &(h, e)| {
+        (a + (h.ln() - mx) * (e.ln() - my), b + (h.ln() - mx).powi(2))
+    });
+    num / den
+}
+
+/// `dexp_inv_series(a, v, q)` truncated after `ad^q` has error
+/// `B_p/p! ad_a^p v + …`, `p` the first index `> q` with `B_p ≠ 0`: since
+/// `B_k = 0` for odd `k ≥ 3`, `p(q) = 1, 2, 4, 4, 6, 6, 8` for `q = 0…6`.
+/// Measured as the residual `|dexp_a(s_q) − v|` (dexp exact, independent of
+/// the Bernoulli series) over `a = h·a₀`, `h = 0.8·2^{−j/2}`; the slope is
+/// fitted on the 4 smallest `h` whose residual is above 3e-14 (≥ 50× the
+/// round-off of the residual; the smallest `h` are the asymptotic regime),
+/// and must be within 0.15 of `p(q)`. So dropping the last term of a
+/// `max_power = q` truncation lowers the observed order by 1 (q = 1), by 2
+/// (q even) or not at all (q odd ≥ 3: the dropped term is 0).
+fn dexp_inv_truncation_orders<G: LieGroup>(seed: u64) {
+    let mut next = rng(seed);
+    let c: Vec<f64> = (0..G::DOF).map(|_| next()).collect();
+    let n = c.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let a0 = G::algebra_from_coords(&c.iter().map(|x| x / n).collect::<Vec<_>>());
+    let v = G::algebra_from_coords(&(0..G::DOF).map(|_| next()).collect::<Vec<_>>());
+    let p_of = |q: usize| {
+        if q == 0 {
+            1
+        } else if q % 2 == 1 {
+            q + 1
+        } else {
+            q + 2
+        }
+    };
+    let hs: Vec<f64> = (0..16).map(|j| 0.8 * 0.5f64.powf(j as f64 / 2.0)).collect();
+    let mut slopes = Vec::new();
+    for q in 0..=6 {
+        let pts: Vec<(f64, f64)> = hs
+            .iter()
+            .map(|&h| {
+                let a = a0 * h;
+                let s = dexp_inv_series::<G>(&a, &v, q);
+                (h, (G::dexp(&a, &s) - v).norm() / v.norm())
+            })
+            .filter(|&(_, e)| e > 3e-14)
+            .collect();
+        let pts = &pts[pts.len().saturating_sub(4)..];
+        assert!(pts.len() >= 4, "{}: q = {q}: too few points above round-off", G::NAME);
+        let slope = loglog_slope(pts);
+        println!("{}: max_power {q}: slope {slope:.3} (expected {})", G::NAME, p_of(q));
+        assert!(
+            (slope - p_of(q) as f64).abs() <= 0.15,
+            "{}: q = {q}: slope {slope}",
+            G::NAME
+        );
+        slopes.push(slope);
+    }
+    for q in 1..=6 {
+        let drop = slopes[q] - slopes[q - 1];
+        let want = (p_of(q) - p_of(q - 1)) as f64;
+        assert!(
+            (drop - want).abs() <= 0.3,
+            "{}: q = {q}: slope change {drop}, expected {want}",
+            G::NAME
+        );
+    }
+}
+
+#[test]
+fn dexp_inv_series_truncation_order() {
+    dexp_inv_truncation_orders::<Gl<3>>(3);
+    dexp_inv_truncation_orders::<Sl<2>>(4);
+    dexp_inv_truncation_orders::<SoN<4>>(5);
+}
+
+/// The two dexp⁻¹ paths (Bernoulli series for 2‖a‖_F ≤ 1, linear solve
+/// above) agree across the switch, and the series path equals the trait's
+/// generic `dexp_inv_series` with 20 terms there.
+#[test]
+fn dexp_inv_continuous_across_switch() {
+    let mut next = rng(8);
+    for _ in 0..20 {
+        let a0 = M3::from_fn(|_, _| next());
+        let v = M3::from_fn(|_, _| next());
+        let a0 = a0 / a0.norm();
+        let below = Gl::<3>::dexp_inv(&(a0 * 0.5f64.next_down()), &v);
+        let above = Gl::<3>::dexp_inv(&(a0 * 0.5f64.next_up()), &v);
+        assert!(
+            (below - above).amax() <= 4.0 * EPS * v.amax(),
+            "{:e}",
+            (below - above).amax()
+        );
+        let series = dexp_inv_series::<Gl<3>>(&(a0 * 0.5f64.next_down()), &v, 20);
+        assert!((below - series).amax() <= 2.0 * EPS * v.amax());
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Bases, products, renormalisation
+// ---------------------------------------------------------------------------
+
+#[test]
+fn algebra_bases_are_as_documented() {
+    // GL⁺(n): row-major entries.
+    let a = Gl::<2>::algebra_from_coords(&[1.0, 2.0, 3.0, 4.0]);
+    assert_eq!(a, M2::new(1.0, 2.0, 3.0, 4.0));
+    assert_eq!(Gl::<2>::algebra_coords(&a), vec![1.0, 2.0, 3.0, 4.0]);
+    // SL(2): (h, e, f) ↔ [[h, e], [f, −h]].
+    assert_eq!(
+        Sl::<2>::algebra_from_coords(&[1.0, 2.0, 3.0]),
+        M2::new(1.0, 2.0, 3.0, -1.0)
+    );
+    // SL(3): diagonal h₀, h₁ (basis E_kk − E_22), then off-diagonal row-major.
+    let a = Sl::<3>::algebra_from_coords(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0]);
+    assert_eq!(a, m3([[1.0, 3.0, 4.0], [5.0, 2.0, 6.0], [7.0, 8.0, -3.0]]));
+    assert_eq!(
+        Sl::<3>::algebra_coords(&a),
+        vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0]
+    );
+    let mut next = rng(17);
+    for _ in 0..1000 {
+        let c: Vec<f64> = (0..8).map(|_| next() * 10f64.powi((next() * 8.0) as i32)).collect();
+        let a = Sl::<3>::algebra_from_coords(&c);
+        assert_eq!(
+            a.trace(),
+            0.0,
+            "from_coords must give exactly traceless matrices: {c:?}"
+        );
+        assert_eq!(Sl::<3>::algebra_coords(&a), c);
+    }
+    // SO(n): ω_ij, i < j lexicographic, basis E_ij − E_ji.
+    let w = SoN::<3>::algebra_from_coords(&[1.0, 2.0, 3.0]);
+    assert_eq!(w, m3([[0.0, 1.0, 2.0], [-1.0, 0.0, 3.0], [-2.0, -3.0, 0.0]]));
+    assert_eq!(
+        SoN::<4>::algebra_coords(&SoN::<4>::algebra_from_coords(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0])).len(),
+        6
+    );
+    // CO⁺(n): κ then ω.
+    assert_eq!(Co::<2>::algebra_from_coords(&[0.5, 2.0]), M2::new(0.5, 2.0, -2.0, 0.5));
+    assert_eq!(
+        Co::<3>::algebra_coords(&Co::<3>::algebra_from_coords(&[0.1, 1.0, 2.0, 3.0])),
+        vec![0.1, 1.0, 2.0, 3.0]
+    );
+    // DOF.
+    assert_eq!((Gl::<3>::DOF, Sl::<3>::DOF, SoN::<5>::DOF, Co::<3>::DOF), (9, 8, 10, 4));
+}
+
+#[test]
+fn product_is_componentwise_and_zero_cost() {
+    use std::mem::size_of;
+    type P = Product<Gl<2>, Rn<3>>;
+    type V3 = nalgebra::Vector3<f64>;
+    assert_eq!(size_of::<P>(), size_of::<Gl<2>>() + size_of::<Rn<3>>());
+    assert_eq!(size_of::<ProductAlgebra<M2, V3>>(), 7 * 8);
+    assert_eq!(
+        (<P as LieGroup>::DOF, <ProductAlgebra<M2, V3> as AlgebraVector>::LEN),
+        (7, 7)
+    );
+    let a = M2::new(0.1, -0.3, 0.2, 0.05);
+    let x = V3::new(1.0, 2.0, 3.0);
+    let g = P::exp(&ProductAlgebra(a, x));
+    assert_eq!(g, Product(Gl::<2>::exp(&a), Rn(x)));
+    // Stored components: A's (column-major SMatrix storage) then B's.
+    let pa = ProductAlgebra(a, x);
+    let comps: Vec<f64> = (0..7).map(|i| pa.get(i)).collect();
+    assert_eq!(comps, vec![0.1, 0.2, -0.3, 0.05, 1.0, 2.0, 3.0]);
+    // Coordinates: A's coordinates (row-major for GL) then B's.
+    assert_eq!(P::algebra_coords(&pa), vec![0.1, -0.3, 0.2, 0.05, 1.0, 2.0, 3.0]);
+    assert_eq!(P::algebra_from_coords(&P::algebra_coords(&pa)), pa);
+    // Block-diagonal matrices.
+    let m = g.to_matrix();
+    assert_eq!(m.shape(), (6, 6));
+    assert_eq!(m.view((0, 0), (2, 2)), Gl::<2>::exp(&a).to_matrix());
+    assert_eq!(m.view((2, 2), (4, 4)), Rn(x).to_matrix());
+    assert!(m
+        .view((0, 2), (2, 4))
+        .iter()
+        .chain(m.view((2, 0), (4, 2)).iter())
+        .all(|&v| v == 0.0));
+    // log fails with the failing component's typed error.
+    let bad = Product(SoN::<2>::new_unchecked(-M2::identity()), Gl::<2>::identity());
+    assert!(matches!(
+        bad.log(),
+        Err(framedyn::Error::LogUndefined { group: "SO(2)", .. })
+    ));
+    // Defect: the larger of the two, NaN propagates.
+    let q = Product(
+        Gl::<2>::new_unchecked(M2::new(1.0, 0.0, 0.0, -1.0)),
+        SoN::<2>::identity(),
+    );
+    assert!(q.constraint_defect() >= 1.0);
+}
+
+#[test]
+fn renormalisation() {
+    let mut next = rng(23);
+    for _ in 0..200 {
+        // SO(3): the polar factor of a perturbed rotation (entries 1e-3 … 0.3 off).
+        let r = SoN::<3>::exp(&SoN::<3>::algebra_from_coords(&[
+            next() * 3.0,
+            next() * 3.0,
+            next() * 3.0,
+        ]));
+        let scale = 10f64.powf(-3.0 + 2.5 * (next() + 1.0) / 2.0);
+        let m = r.matrix() + M3::from_fn(|_, _| scale * next());
+        let p = SoN::<3>::new_unchecked(m).renormalize();
+        // Defining properties of the polar factor (which they determine
+        // uniquely): U orthogonal, UᵀM symmetric positive definite. (nalgebra's
+        // SVD-based U Vᵀ is a worse reference: its UᵀM is symmetric only to
+        // ~4e-14.)
+        let u = dm(p.matrix());
+        let h = u.transpose() * dm(&m);
+        assert!((&h - h.transpose()).amax() <= 4.0 * EPS * h.amax(), "UᵀM not symmetric");
+        assert!(h.symmetric_eigenvalues().min() > 0.0);
+        assert!(p.constraint_defect() <= 4.0 * EPS);
+    }
+    // det < 0: the nearest rotation (smallest singular direction flipped).
+    let m = m3([[1.0, 0.1, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, -0.5]]);
+    let p = SoN::<3>::new_unchecked(m).renormalize();
+    assert!(p.constraint_defect() <= 4.0 * EPS, "{}", p.constraint_defect());
+    // SO(5) exp of a large generator stays orthogonal to a few ε.
+    let w = SoN::<5>::algebra_from_coords(&(0..10).map(|_| 20.0 * next()).collect::<Vec<_>>());
+    assert!(SoN::<5>::exp(&w).constraint_defect() <= 4.0 * EPS);
+    // SL: renormalize restores det = 1.
+    let s = Sl::<3>::new_unchecked(m3([[2.0, 1.0, 0.0], [0.0, 1.0, 0.3], [0.1, 0.0, 0.7]]));
+    assert!(s.renormalize().constraint_defect() <= 4.0 * EPS);
+    // GL⁺: nothing to restore; the defect flags a lost orientation only.
+    assert_eq!(
+        Gl::<3>::exp(&m3([[1.0, 2.0, 3.0], [0.0, -1.0, 0.5], [2.0, 0.0, 0.3]])).constraint_defect(),
+        0.0
+    );
+    assert_eq!(
+        Gl::<2>::new_unchecked(M2::new(f64::NAN, 0.0, 0.0, 1.0)).constraint_defect(),
+        f64::INFINITY
+    );
+}
+
+/// This crate's `exp` against the suite's reference `expm_reference`
+/// (Taylor + squaring), both against 256-bit arithmetic on random 3×3
+/// matrices: ours must be at least as accurate in every norm band (the law
+/// suites' `exp = expm(hat)` tolerance therefore measures the reference).
+#[test]
+fn exp_at_least_as_accurate_as_the_suite_reference() {
+    let mut hp = hp::Hp::new();
+    let mut next = rng(41);
+    for r in [1e-3, 0.3, 1.0, 4.4] {
+        let (mut ours, mut theirs) = (0.0f64, 0.0f64);
+        for _ in 0..12 {
+            let a = M3::from_fn(|_, _| next());
+            let a = a * (r / a.norm());
+            let ha = hp.mat(&dm(&a));
+            let e = hp.expm(&ha);
+            let exact = hp.to_dmatrix(&e);
+            ours = ours.max(rel_err(&Gl::<3>::exp(&a).to_matrix(), &exact));
+            theirs = theirs.max(rel_err(&expm_reference(&dm(&a)), &exact));
+        }
+        println!(
+            "‖A‖ = {r}: Gl::exp {:.1} ε, expm_reference {:.1} ε",
+            ours / EPS,
+            theirs / EPS
+        );
+        assert!(ours <= theirs.max(2.0 * EPS), "‖A‖ = {r}: {ours:e} vs {theirs:e}");
+    }
 }

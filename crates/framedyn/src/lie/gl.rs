@@ -1654,8 +1654,10 @@ pub(crate) mod matfun {
                 u[(i, imin)] = -u[(i, imin)];
             }
         }
-        let r = u * vt;
-        Mat::<N>::from_column_slice(r.as_slice())
+        let r = Mat::<N>::from_column_slice((u * vt).as_slice());
+        // nalgebra's SVD vectors are orthogonal only to ~1e-15: one
+        // Björck–Bowie step brings the result to round-off.
+        r - r * (r.transpose() * r - Mat::<N>::identity()) * 0.5
     }
 }
 
@@ -1672,17 +1674,56 @@ pub(crate) mod matfun {
 ///   **row-major** order `a₀₀, a₀₁, …, a₀,ₙ₋₁, a₁₀, …` (note: the
 ///   [`AlgebraVector`](super::AlgebraVector) components of an `SMatrix` follow
 ///   nalgebra's column-major storage instead).
-/// - `exp`: Padé scaling and squaring [H05]; `log`: inverse scaling and
-///   squaring [AH12] (principal branch, for spectra off (−∞, 0]).
+/// - `exp`: scaling and squaring with the \[m/m\] Padé approximant,
+///   `m ∈ {3, 5, 7, 9, 13}` chosen by `‖A‖₁` against Higham's θ_m \[H05\].
+///   Measured against 256-bit closed forms for `‖A‖` from 1e-12 to 100
+///   (tests `exp_accuracy_closed_forms`): relative error ≤ 1.1ε·max(1, ‖A‖_F)
+///   for rotation generators, ≤ 1.8ε·max(1, ‖A‖_F) for `P D P⁻¹`, exact for
+///   nilpotent `A`, ≤ 7.6ε·‖A‖_F for boosts `[[0, b], [b, 0]]` (the
+///   denominator `q₁₃(A)` cancels like `e^{‖A‖}` for positive real
+///   eigenvalues, inherent to \[H05\]); `exp` is conditioned like `‖A‖`, so
+///   "a few ulp" holds for `‖A‖ ≲ 1`.
+/// - `log`: principal branch (all eigenvalues `|Im λ| < π`), inverse scaling
+///   and squaring \[AH12\]: a real Schur form (own Francis QR on the stack)
+///   gives the spectrum ([`Error::LogUndefined`] for an eigenvalue on, or
+///   within 8ε of, the closed negative real axis); square roots by the
+///   product Denman–Beavers iteration \[CHKL01\] when every `|arg λ| ≤ 2.9`
+///   and `κ₁ ≤ 30` (a few ε there), else by the real Schur method (closed-form
+///   2×2 blocks, no cancellation near angle π, backward error independent of
+///   κ); `Z = R − I` is carried without cancellation; Padé `log(1 + x)` in
+///   partial fractions \[H01\]. [`Error::NoConvergence`] if the Schur form
+///   does not converge.
 /// - `bracket` = commutator, `Ad_g a = g a g⁻¹`.
-/// - `dexp`: exact "scaling and doubling" (`φ(2z) = φ(z)(e^z+1)/2`), valid for
-///   every `a`; `dexp⁻¹`: Bernoulli series for `2‖a‖_F ≤ 1`, else an exact
-///   `n²×n²` linear solve (valid wherever `dexp_a` is invertible, e.g. for all
-///   `a` with eigenvalues `|Im λ| < π`).
+/// - `dexp`: exact "scaling and doubling", `φ(ad_A) = ∏_{k=1}^s ½(Ad_{exp(A/2^k)} + 1)·φ(ad_{A/2^s})`
+///   from `φ(2z) = φ(z)(e^z + 1)/2`, Taylor series for the last factor
+///   (`‖ad_{A/2^s}‖ ≤ 1`); valid for every `a` (dexp is entire); measured
+///   ≤ 3ε up to ‖a‖ = 1, ≤ 18ε at ‖a‖ = 4 against the 256-bit block
+///   exponential `exp([[A, V], [0, A]])`.
+/// - `dexp⁻¹`: the Bernoulli series `Σ_{k≤20} B_k/k! ad_a^k` for
+///   `2‖a‖_F ≤ 1` (remainder < 5e-18), else `dexp_a` assembled as an
+///   `n²×n²` matrix and solved by Gaussian elimination with partial pivoting
+///   (stack storage): no radius restriction, valid wherever `dexp_a` is
+///   invertible (no eigenvalue of `ad_a` in `2πiℤ∖{0}`, e.g. all `a` with
+///   `|Im λ| < π`); NaN where singular to working precision.
 /// - No constraint beyond `det > 0`: [`renormalize`](LieGroup::renormalize)
 ///   is the identity.
 ///
 /// Matrix representation: the matrix itself.
+///
+/// References: \[H05\] N. J. Higham, *The scaling and squaring method for
+/// the matrix exponential revisited*, SIAM J. Matrix Anal. Appl. 26 (2005)
+/// 1179–1193. \[AH12\] A. H. Al-Mohy, N. J. Higham, *Improved inverse
+/// scaling and squaring algorithms for the matrix logarithm*, SIAM J. Sci.
+/// Comput. 34 (2012) C153–C169. \[CHKL01\] S. H. Cheng, N. J. Higham,
+/// C. S. Kenney, A. J. Laub, *Approximating the logarithm of a matrix to
+/// specified accuracy*, SIAM J. Matrix Anal. Appl. 22 (2001) 1112–1125.
+/// \[H01\] N. J. Higham, *Evaluating Padé approximants of the matrix
+/// logarithm*, SIAM J. Matrix Anal. Appl. 22 (2001) 1126–1135. N. J. Higham,
+/// *Functions of Matrices*, SIAM 2008 (§6.2 real Schur square root, §8 polar
+/// decomposition, §11 logarithm). G. H. Golub, C. F. Van Loan, *Matrix
+/// Computations*, 4th ed. 2013 (§7.5 Francis QR). A. Iserles,
+/// H. Munthe-Kaas, S. Nørsett, A. Zanna, *Lie-group methods*, Acta Numerica 9
+/// (2000) 215–365 (dexp, dexp⁻¹).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Gl<const N: usize> {
     m: Mat<N>,
