@@ -201,7 +201,7 @@ mod hp {
             BigFloat::from_f64(x, P)
         }
         /// Correctly rounded to f64 (through a full-precision decimal string).
-        pub fn to_f64(&mut self, x: &BigFloat) -> f64 {
+        pub fn round(&mut self, x: &BigFloat) -> f64 {
             x.format(Radix::Dec, RM, &mut self.cc)
                 .expect("format")
                 .parse()
@@ -212,9 +212,9 @@ mod hp {
                 .map(|i| (0..a.ncols()).map(|j| self.f(a[(i, j)])).collect())
                 .collect()
         }
-        pub fn to_dmatrix(&mut self, m: &M) -> DMatrix<f64> {
+        pub fn round_matrix(&mut self, m: &M) -> DMatrix<f64> {
             let (r, c) = (m.len(), m[0].len());
-            DMatrix::from_fn(r, c, |i, j| self.to_f64(&m[i][j]))
+            DMatrix::from_fn(r, c, |i, j| self.round(&m[i][j]))
         }
         pub fn zeros(&self, n: usize) -> M {
             vec![vec![self.f(0.0); n]; n]
@@ -251,7 +251,7 @@ mod hp {
         /// and `s` squarings, all in 256-bit arithmetic.
         pub fn expm(&mut self, a: &M) -> M {
             let n = a.len();
-            let norm: f64 = a.iter().flatten().map(|x| self.to_f64(x).abs()).sum::<f64>();
+            let norm: f64 = a.iter().flatten().map(|x| self.round(x).abs()).sum::<f64>();
             let mut s = 0;
             while norm / 2f64.powi(s) > 1.0 / 16.0 {
                 s += 1;
@@ -330,7 +330,7 @@ fn exp_accuracy_closed_forms() {
                 ed[0][1] = ed[1][0].neg();
                 ed[2][2] = hp.f(-2.0 * t).exp(hp::P, hp::RM, &mut hp.cc);
             }
-            let reference = hp.to_dmatrix(&hp.mul(&hp.mul(&hpp, &ed), &hppinv));
+            let reference = hp.round_matrix(&hp.mul(&hp.mul(&hpp, &ed), &hppinv));
             diag_cases.push((a, reference));
         }
         // Nilpotent: exp(A) = I + A + A²/2 exactly.
@@ -338,7 +338,7 @@ fn exp_accuracy_closed_forms() {
         let hn = hp.mat(&dm(&n));
         let half = hp.f(0.5);
         let reference = hp.add(&hp.add(&hp.identity(3), &hn), &hp.scale(&hp.mul(&hn, &hn), &half));
-        nil_cases.push((n, hp.to_dmatrix(&reference)));
+        nil_cases.push((n, hp.round_matrix(&reference)));
     }
     let diag = worst_exp_error::<Gl<3>>(&diag_cases);
     let nil = worst_exp_error::<Gl<3>>(&nil_cases);
@@ -357,7 +357,7 @@ fn exp_accuracy_closed_forms() {
             b.cosh(hp::P, hp::RM, &mut hp.cc),
             b.sinh(hp::P, hp::RM, &mut hp.cc),
         ];
-        let [c, s, ch, sh] = vals.map(|v| hp.to_f64(&v));
+        let [c, s, ch, sh] = vals.map(|v| hp.round(&v));
         rot.push((M2::new(0.0, -th, th, 0.0), dm(&M2::new(c, -s, s, c))));
         boost.push((M2::new(0.0, th, th, 0.0), dm(&M2::new(ch, sh, sh, ch))));
     }
@@ -392,7 +392,7 @@ fn dexp_reference(hp: &mut hp::Hp, a: &DMatrix<f64>, v: &DMatrix<f64>) -> DMatri
     let e = hp.expm(&hp.mat(&big));
     let f: hp::M = (0..n).map(|i| e[i][n..].to_vec()).collect();
     let einv = hp.expm(&hp.mat(&(-a)));
-    hp.to_dmatrix(&hp.mul(&f, &einv))
+    hp.round_matrix(&hp.mul(&f, &einv))
 }
 
 /// Worst relative errors of `dexp` and residuals of `dexp⁻¹`
@@ -462,7 +462,7 @@ fn rot2_hp(hp: &mut hp::Hp, th: f64) -> hp::M {
 fn rot2(hp: &mut hp::Hp, th: f64) -> (M2, M2) {
     let r = rot2_hp(hp, th);
     (
-        M2::from_column_slice(hp.to_dmatrix(&r).as_slice()),
+        M2::from_column_slice(hp.round_matrix(&r).as_slice()),
         M2::new(0.0, -th, th, 0.0),
     )
 }
@@ -519,8 +519,8 @@ fn log_near_boundary() {
             &hp.add(&hp.identity(3), &hp.scale(&hk, &s)),
             &hp.scale(&hp.mul(&hk, &hk), &one_minus_c),
         );
-        let r3 = M3::from_column_slice(hp.to_dmatrix(&rr).as_slice());
-        let w3 = hp.to_dmatrix(&hp.scale(&hk, &b));
+        let r3 = M3::from_column_slice(hp.round_matrix(&rr).as_slice());
+        let w3 = hp.round_matrix(&hp.scale(&hk, &b));
         let l3 = SoN::<3>::new_unchecked(r3).log().unwrap();
         let e3 = (dm(&l3) - &w3).amax() / th / EPS;
         let kappa3 = th / (2.0 * (th / 2.0).sin());
@@ -554,8 +554,8 @@ fn log_near_boundary() {
             gens[p][p + 1] = hp.f(-ang);
         }
         // Q is symmetric: Qᵀ = Q.
-        let r4 = hp.to_dmatrix(&hp.mul(&hp.mul(&hq, &blocks), &hq));
-        let w4 = hp.to_dmatrix(&hp.mul(&hp.mul(&hq, &gens), &hq));
+        let r4 = hp.round_matrix(&hp.mul(&hp.mul(&hq, &blocks), &hq));
+        let w4 = hp.round_matrix(&hp.mul(&hp.mul(&hq, &gens), &hq));
         let l4 = SoN::<4>::new_unchecked(nalgebra::SMatrix::<f64, 4, 4>::from_column_slice(r4.as_slice()))
             .log()
             .unwrap();
@@ -579,8 +579,8 @@ fn log_near_boundary() {
         d[0][1] = hp.f(-th);
         d[2][2] = hp.f(0.5);
         e[2][2] = hp.f(0.5).exp(hp::P, hp::RM, &mut hp.cc);
-        let g = hp.to_dmatrix(&hp.mul(&hp.mul(&hpp, &e), &hppinv));
-        let a = hp.to_dmatrix(&hp.mul(&hp.mul(&hpp, &d), &hppinv));
+        let g = hp.round_matrix(&hp.mul(&hp.mul(&hpp, &e), &hppinv));
+        let a = hp.round_matrix(&hp.mul(&hp.mul(&hpp, &d), &hppinv));
         let l = Gl::<3>::new_unchecked(M3::from_column_slice(g.as_slice()))
             .log()
             .unwrap();
@@ -593,7 +593,7 @@ fn log_near_boundary() {
         let p2 = M2::new(2.0, 1.0, 1.0, 1.0);
         let p2inv = M2::new(1.0, -1.0, -1.0, 2.0);
         let (hp2, hp2i) = (hp.mat(&dm(&p2)), hp.mat(&dm(&p2inv)));
-        let g2 = hp.to_dmatrix(&hp.mul(&hp.mul(&hp2, &hr), &hp2i));
+        let g2 = hp.round_matrix(&hp.mul(&hp.mul(&hp2, &hr), &hp2i));
         let a2 = dm(&(p2 * w * p2inv));
         let l2 = Sl::<2>::new_unchecked(M2::from_column_slice(g2.as_slice()))
             .log()
@@ -1029,7 +1029,7 @@ fn exp_at_least_as_accurate_as_the_suite_reference() {
             let a = a * (r / a.norm());
             let ha = hp.mat(&dm(&a));
             let e = hp.expm(&ha);
-            let exact = hp.to_dmatrix(&e);
+            let exact = hp.round_matrix(&e);
             ours = ours.max(rel_err(&Gl::<3>::exp(&a).to_matrix(), &exact));
             theirs = theirs.max(rel_err(&expm_reference(&dm(&a)), &exact));
         }

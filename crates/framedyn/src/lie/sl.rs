@@ -156,7 +156,7 @@ impl<const N: usize> LieGroup for Sl<N> {
         let tr = l.trace();
         let kappa = Lu::new(&self.m).map_or(f64::INFINITY, |lu| norm1(&self.m) * norm1(&lu.inverse()));
         let tolerance = SL_LOG_TRACE_TOLERANCE + 16.0 * N as f64 * f64::EPSILON * kappa;
-        if !(tr.abs() <= tolerance) {
+        if tr.abs().is_nan() || tr.abs() > tolerance {
             return Err(Error::Constraint {
                 field: "SL element",
                 constraint: "det = 1 (|tr log g| = |ln det g|)",
