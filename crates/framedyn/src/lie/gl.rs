@@ -8,19 +8,19 @@
 //! decomposition) and the SVD fallback of the polar factor for det ≤ 0.
 //!
 //! References:
-//! - [H05] N. J. Higham, *The scaling and squaring method for the matrix
+//! - \[H05\] N. J. Higham, *The scaling and squaring method for the matrix
 //!   exponential revisited*, SIAM J. Matrix Anal. Appl. 26 (2005) 1179–1193.
-//! - [AH12] A. H. Al-Mohy, N. J. Higham, *Improved inverse scaling and squaring
+//! - \[AH12\] A. H. Al-Mohy, N. J. Higham, *Improved inverse scaling and squaring
 //!   algorithms for the matrix logarithm*, SIAM J. Sci. Comput. 34 (2012) C153–C169.
-//! - [CHKL01] S. H. Cheng, N. J. Higham, C. S. Kenney, A. J. Laub, *Approximating
+//! - \[CHKL01\] S. H. Cheng, N. J. Higham, C. S. Kenney, A. J. Laub, *Approximating
 //!   the logarithm of a matrix to specified accuracy*, SIAM J. Matrix Anal.
 //!   Appl. 22 (2001) 1112–1125 (product form of the Denman–Beavers iteration).
-//! - [H01] N. J. Higham, *Evaluating Padé approximants of the matrix logarithm*,
+//! - \[H01\] N. J. Higham, *Evaluating Padé approximants of the matrix logarithm*,
 //!   SIAM J. Matrix Anal. Appl. 22 (2001) 1126–1135 (partial fractions).
-//! - [H08] N. J. Higham, *Functions of Matrices*, SIAM 2008 (§6.3, §8, §11).
-//! - [BB71] Å. Björck, C. Bowie, *An iterative algorithm for computing the best
+//! - \[H08\] N. J. Higham, *Functions of Matrices*, SIAM 2008 (§6.3, §8, §11).
+//! - \[BB71\] Å. Björck, C. Bowie, *An iterative algorithm for computing the best
 //!   estimate of an orthogonal matrix*, SIAM J. Numer. Anal. 8 (1971) 358–364.
-//! - [IMNZ00] A. Iserles, H. Munthe-Kaas, S. Nørsett, A. Zanna, *Lie-group
+//! - \[IMNZ00\] A. Iserles, H. Munthe-Kaas, S. Nørsett, A. Zanna, *Lie-group
 //!   methods*, Acta Numerica 9 (2000) 215–365 (dexp, dexp⁻¹).
 
 use nalgebra::{DMatrix, SMatrix};
@@ -197,7 +197,7 @@ pub(crate) mod matfun {
     ];
 
     /// Coefficients `b_j = (2m−j)! m! / ((2m)! j! (m−j)!)` of the [m/m] Padé
-    /// numerator `p_m(x) = Σ b_j x^j`, scaled so that the leading one is 1 as in [H05].
+    /// numerator `p_m(x) = Σ b_j x^j`, scaled so that the leading one is 1 as in \[H05\].
     pub(crate) const PADE3: [f64; 4] = [120.0, 60.0, 12.0, 1.0];
     pub(crate) const PADE5: [f64; 6] = [30240.0, 15120.0, 3360.0, 420.0, 30.0, 1.0];
     pub(crate) const PADE7: [f64; 8] = [17297280.0, 8648640.0, 1995840.0, 277200.0, 25200.0, 1512.0, 56.0, 1.0];
@@ -857,7 +857,7 @@ pub(crate) mod matfun {
     const DB_MAX_ITER: usize = 100;
 
     /// Principal square root by the scaled product form of the Denman–Beavers
-    /// iteration [CHKL01], [H08, (6.29)]:
+    /// iteration \[CHKL01\], [H08, (6.29)]:
     ///
     /// `M₀ = Y₀ = A`, `μ_k = |det M_k|^{−1/(2n)}`,
     /// `Y_{k+1} = μ_k Y_k (I + μ_k⁻² M_k⁻¹)/2`,
@@ -1412,7 +1412,7 @@ pub(crate) mod matfun {
         ],
     ];
 
-    /// The [m/m] Padé approximant of `log(I + X)` in partial fractions [H01]:
+    /// The [m/m] Padé approximant of `log(I + X)` in partial fractions \[H01\]:
     /// `r_m(X) = Σ_j w_j X (I + t_j X)⁻¹`, the m-point Gauss–Legendre rule for
     /// `log(I + X) = ∫₀¹ X (I + tX)⁻¹ dt`. `None` if some `I + t_j X` is singular.
     pub(crate) fn log1p_pade<const N: usize>(x: &Mat<N>, m: usize) -> Option<Mat<N>> {
@@ -1517,7 +1517,7 @@ pub(crate) mod matfun {
         }
     }
 
-    /// Principal matrix logarithm by inverse scaling and squaring [AH12],
+    /// Principal matrix logarithm by inverse scaling and squaring \[AH12\],
     /// [H08 §11.5]:
     ///
     /// 1. `A = Q T Qᵀ` ([`real_schur`]); the diagonal blocks of `T` give the
@@ -1599,7 +1599,7 @@ pub(crate) mod matfun {
     /// nearest to `M` in the Frobenius norm), for `det M > 0` (then `U ∈ SO(n)`).
     ///
     /// - near-orthogonal input (`‖MᵀM − I‖_F < 1/2`): Newton–Schulz / Björck–Bowie
-    ///   [BB71] steps `X ← X(3I − XᵀX)/2 = X − X E/2`, `E = XᵀX − I`, which square
+    ///   \[BB71\] steps `X ← X(3I − XᵀX)/2 = X − X E/2`, `E = XᵀX − I`, which square
     ///   the defect (`E' ≈ −¾E²`); iterated until `‖E‖_F ≤ 10⁻⁸`, then one last
     ///   step brings it to round-off. From round-off input this is one step
     ///   (two products, no inverse);
