@@ -600,3 +600,489 @@ fn hyperbolic_affine_entries_conservation() {
     let fine = drifts(&sys, &q0, &v0, 0.01, 500, inv);
     assert_fourth_order("H2 affine entries (E, p_phi)", coarse, fine, [4e-9, 3e-9]);
 }
+
+// ---------------------------------------------------------------------------
+// 3. The paper's printed formulas (§5, §6): confirmed, or corrected (SPEC §8)
+// ---------------------------------------------------------------------------
+
+/// Hamilton's equations of a Hamiltonian `H(q, p)` (written over dual
+/// numbers) turned into accelerations: `q̇ = ∂H/∂p`, `ṗ = −∂H/∂q`,
+/// `q̈ = ∂²H/∂p∂q·q̇ + ∂²H/∂p²·ṗ`. Returns `(q̇, q̈)`.
+fn hamilton_accelerations<const Z: usize, const Q: usize>(
+    h: impl Fn(&SVector<num_dual::Dual2SVec64<Z>, Z>) -> num_dual::Dual2SVec64<Z>,
+    q: &SVector<f64, Q>,
+    p: &SVector<f64, Q>,
+) -> (SVector<f64, Q>, SVector<f64, Q>) {
+    assert_eq!(Z, 2 * Q);
+    let z = SVector::<f64, Z>::from_fn(|i, _| if i < Q { q[i] } else { p[i - Q] });
+    let (_, grad, hess) = num_dual::hessian(|zz: SVector<num_dual::Dual2SVec64<Z>, Z>| h(&zz), &z);
+    let qdot = SVector::<f64, Q>::from_fn(|i, _| grad[Q + i]);
+    let pdot = SVector::<f64, Q>::from_fn(|i, _| -grad[i]);
+    let qddot = SVector::<f64, Q>::from_fn(|i, _| {
+        (0..Q).map(|j| hess[(Q + i, j)] * qdot[j] + hess[(Q + i, Q + j)] * pdot[j]).sum::<f64>()
+    });
+    (qdot, qddot)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// S² gyroscope, §5.1, at random states and parameters, with the
+    /// integrable potential `V = α̂cos²(r/R) + β̂cos(r/R)`: the printed
+    /// (a92) `T`, the symmetric-top form (d94) with (e94), (f94), (a94)
+    /// (`K = mR²`), the printed `G_ij`, `G^ij`, momenta `p_r, p_φ, p_ψ`, both
+    /// printed forms of the geodesic Hamiltonian `𝒯`, and the EL
+    /// accelerations against Hamilton's equations of the printed `H = 𝒯 + V`
+    /// (all confirmed, relative 1e-12, the accelerations 1e-11/sin³ϑ; measured
+    /// ≤ 2e-16 for G and p, ≤ 3.2e-14 for q̈). The radial equation
+    /// (a101) holds (`p_r²` equals its right-hand side); the printed (a102)
+    /// has `+ m J_ψ²/(4π²I)` under the root where (a101) gives `−` (SPEC §8):
+    /// with the printed sign the identity fails by `2ms²/I`.
+    #[test]
+    fn sphere_gyroscope_printed_formulas(radius in 0.5..2.0f64, m in 0.5..2.0f64, moment in 0.1..1.0f64,
+                                         t in 0.1..(PI - 0.1), phi in -4.0..4.0f64, psi in -4.0..4.0f64,
+                                         rd in -1.0..1.0f64, pd in -1.0..1.0f64, sd in -1.0..1.0f64,
+                                         a in -1.0..1.0f64, b in -1.0..1.0f64) {
+        let sys = Gyroscope2::gyroscope(
+            SphereChart::new(radius).unwrap(),
+            PlaneRotation,
+            &Gyroscope::isotropic(m, moment).unwrap(),
+            ZPoly { a, b, radius },
+        );
+        let r = t * radius;
+        let q = Vector3::new(r, phi, psi);
+        let v = Vector3::new(rd, pd, sd);
+        let (s, c) = t.sin_cos();
+        let v_pot = a * c * c + b * c;
+        let d = lagrangian_derivatives(&sys, &q, &v).unwrap();
+        let e = energy(&sys, &q, &v).unwrap();
+        let tol = 1e-12;
+
+        // (a92) and (d94).
+        let omega = sd + c * pd;
+        let t_a92 = 0.5 * m * (rd * rd + radius * radius * s * s * pd * pd) + 0.5 * moment * omega * omega;
+        prop_assert!((e - v_pot - t_a92).abs() <= tol * t_a92.max(1.0));
+        let td = rd / radius;
+        let (k1, k2, k3) = (s * psi.sin() * pd + psi.cos() * td, s * psi.cos() * pd - psi.sin() * td, c * pd + sd);
+        let k = m * radius * radius;
+        let t_d94 = 0.5 * k * (k1 * k1 + k2 * k2) + 0.5 * moment * k3 * k3;
+        prop_assert!((t_d94 - t_a92).abs() <= tol * t_a92.max(1.0));
+
+        // G_ij and G^ij as printed.
+        let im = moment / m;
+        let g = Matrix3::new(1.0, 0.0, 0.0, 0.0, radius * radius * s * s + im * c * c, im * c, 0.0, im * c, im);
+        prop_assert!(rel(&(d.mass / m), &g) <= tol);
+        let rs2 = radius * radius * s * s;
+        let gi = Matrix3::new(1.0, 0.0, 0.0, 0.0, 1.0 / rs2, -c / rs2, 0.0, -c / rs2, 1.0 / im + c * c / rs2);
+        prop_assert!(rel(&(d.mass.try_inverse().unwrap() * m), &gi) <= tol * gi.amax());
+
+        // Printed momenta.
+        let p = Vector3::new(
+            m * rd,
+            m * radius * radius * (s * s + moment / (m * radius * radius) * c * c) * pd + moment * c * sd,
+            moment * sd + moment * c * pd,
+        );
+        prop_assert!(rel(&d.momentum, &p) <= tol);
+
+        // Both printed forms of 𝒯 (the Legendre transform of T).
+        let (pr, pp, ps) = (p[0], p[1], p[2]);
+        let den = 2.0 * m * radius * radius * s * s;
+        let t1 = pr * pr / (2.0 * m)
+            + (pp * pp - 2.0 * pp * ps * c + (m * radius * radius / moment * s * s + c * c) * ps * ps) / den;
+        let t2 = pr * pr / (2.0 * m) + (pp * pp - 2.0 * pp * ps * c + ps * ps) / den
+            + (m * radius * radius - moment) / (2.0 * m * radius * radius * moment) * ps * ps;
+        prop_assert!((t1 - t_a92).abs() <= tol * t_a92.max(1.0) / s.powi(2));
+        prop_assert!((t2 - t_a92).abs() <= tol * t_a92.max(1.0) / s.powi(2));
+        prop_assert!((hamiltonian(&sys, &q, &p).unwrap() - e).abs() <= tol * e.abs().max(1.0) / s.powi(2));
+
+        // EL accelerations = Hamilton's equations of the printed H.
+        let h = |z: &SVector<num_dual::Dual2SVec64<6>, 6>| {
+            let th = z[0] / radius;
+            let (sn, cs) = th.sin_cos();
+            let (pr, pp, ps) = (z[3], z[4], z[5]);
+            pr * pr / (2.0 * m)
+                + (pp * pp - pp * ps * cs * 2.0 + (sn * sn * (m * radius * radius / moment) + cs * cs) * ps * ps)
+                    / (sn * sn * (2.0 * m * radius * radius))
+                + cs * cs * a + cs * b
+        };
+        let (qdot_h, qddot_h) = hamilton_accelerations(h, &q, &p);
+        prop_assert!(rel(&qdot_h, &v) <= tol / s.powi(2));
+        let acc = accelerations(&sys, &q, &v).unwrap();
+        prop_assert!(rel(&acc, &qddot_h) <= 1e-11 / s.powi(3), "EL {acc:?} vs Hamilton {qddot_h:?}");
+
+        // (a101) and the sign of (a102).
+        let (ell, spin) = (pp, ps);
+        let rhs_a101 = 2.0 * m * (e - v_pot)
+            - (ell * ell - 2.0 * ell * spin * c + spin * spin * (m * radius * radius / moment * s * s + c * c)) / (radius * radius * s * s);
+        prop_assert!((pr * pr - rhs_a101).abs() <= 1e-10 * (1.0 + e.abs()) / s.powi(2));
+        let (jphi, jpsi) = (2.0 * PI * ell, 2.0 * PI * spin);
+        let radicand = |sign: f64| 2.0 * m * (e - v_pot)
+            - (jphi - jpsi * c).powi(2) / (4.0 * PI * PI * radius * radius * s * s)
+            + sign * m * jpsi * jpsi / (4.0 * PI * PI * moment);
+        prop_assert!((pr * pr - radicand(-1.0)).abs() <= 1e-10 * (1.0 + e.abs()) / s.powi(2));
+        let printed_gap = (pr * pr - radicand(1.0)).abs();
+        prop_assert!((printed_gap - 2.0 * m * spin * spin / moment).abs() <= 1e-9 * (1.0 + e.abs()) / s.powi(2));
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// H² gyroscope, §5.2, both signatures, free: the kinetic energies
+    /// (a135) and (a138), the Lorentz-top forms (a142)/(b142) with the
+    /// printed pseudo-Euler velocities (`K = mR²`), the printed metrics
+    /// (c135) `G_ij` and `ₗG_ij` and their printed inverses (confirmed,
+    /// relative 1e-12). The radial equation (a143): `p_r²` equals
+    /// `2m(E − V) − (ℓ − s ch)²/(R² sh²) − (m/I)s²` for (a135) and
+    /// `… + (m/I)s²` for (a138) — the printed `±` is reversed (SPEC §8): with
+    /// the printed signs the identity fails by `2(m/I)s²`. The printed
+    /// translational energy of line 4571 lacks the `R²` of (a135) itself: the
+    /// coordinate Lagrangian of a point differs from it by
+    /// `(m/2)(R² − 1) sh² φ̇²`.
+    #[test]
+    fn hyperbolic_gyroscope_printed_formulas(radius in 0.5..2.5f64, m in 0.5..2.0f64, moment in 0.1..1.0f64,
+                                             t in 0.1..3.0f64, psi in -4.0..4.0f64,
+                                             rd in -1.0..1.0f64, pd in -1.0..1.0f64, sd in -1.0..1.0f64,
+                                             lorentz in proptest::bool::ANY) {
+        let signature = if lorentz { Signature::Lorentz } else { Signature::Riemannian };
+        let sigma = if lorentz { -1.0 } else { 1.0 };
+        let sys = Gyroscope2::gyroscope(
+            HyperbolicChart::new(radius).unwrap(),
+            PlaneRotation,
+            &Gyroscope::isotropic(m, moment).unwrap().with_signature(signature),
+            Free,
+        );
+        let q = Vector3::new(t * radius, 0.7, psi);
+        let v = Vector3::new(rd, pd, sd);
+        let (sh, ch) = (t.sinh(), t.cosh());
+        let d = lagrangian_derivatives(&sys, &q, &v).unwrap();
+        let e = energy(&sys, &q, &v).unwrap();
+        let tol = 1e-12;
+        let scale = 1.0 + ch * ch;
+
+        let omega = sd + ch * pd;
+        let t_printed = 0.5 * m * (rd * rd + radius * radius * sh * sh * pd * pd) + sigma * 0.5 * moment * omega * omega;
+        prop_assert!((e - t_printed).abs() <= tol * scale);
+        let td = rd / radius;
+        let (l1, l2, l3) = (sh * psi.sin() * pd + psi.cos() * td, -sh * psi.cos() * pd + psi.sin() * td, ch * pd + sd);
+        let k = m * radius * radius;
+        let t_top = 0.5 * k * (l1 * l1 + l2 * l2) + sigma * 0.5 * moment * l3 * l3;
+        prop_assert!((t_top - e).abs() <= tol * scale);
+
+        let im = moment / m;
+        let g = Matrix3::new(1.0, 0.0, 0.0,
+                             0.0, radius * radius * (sh * sh + sigma * im / (radius * radius) * ch * ch), sigma * im * ch,
+                             0.0, sigma * im * ch, sigma * im);
+        prop_assert!(rel(&(d.mass / m), &g) <= tol * scale);
+        let rs2 = radius * radius * sh * sh;
+        let gi = Matrix3::new(1.0, 0.0, 0.0, 0.0, 1.0 / rs2, -ch / rs2, 0.0, -ch / rs2, sigma / im + ch * ch / rs2);
+        prop_assert!(rel(&(d.mass.try_inverse().unwrap() * m), &gi) <= tol * gi.amax() * scale);
+
+        let (pr, ell, s) = (d.momentum[0], d.momentum[1], d.momentum[2]);
+        let rhs = |sign: f64| 2.0 * m * e - (ell - s * ch).powi(2) / (radius * radius * sh * sh) + sign * m / moment * s * s;
+        let fit = 1e-10 * (1.0 + e.abs() + (ell * ell + s * s * ch * ch) / (radius * radius * sh * sh));
+        prop_assert!((pr * pr - rhs(-sigma)).abs() <= fit);
+        prop_assert!(((pr * pr - rhs(sigma)).abs() - 2.0 * m / moment * s * s).abs() <= fit);
+
+        // Line 4571: T_tr without R².
+        let point = PointLagrangian::new(HyperbolicChart::new(radius).unwrap(), &Point::new(m).unwrap(), Free);
+        let x = Vector2::new(t * radius, 0.7);
+        let xd = Vector2::new(rd, pd);
+        let t_point = energy(&point, &x, &xd).unwrap();
+        prop_assert!((t_point - 0.5 * m * (rd * rd + radius * radius * sh * sh * pd * pd)).abs() <= tol * scale);
+        let printed_4571 = 0.5 * m * (rd * rd + sh * sh * pd * pd);
+        prop_assert!(((t_point - printed_4571) - 0.5 * m * (radius * radius - 1.0) * sh * sh * pd * pd).abs() <= tol * scale);
+    }
+
+    /// T² gyroscope, §5.3, with `V = b sin θ`. With the frame `(E_θ, E_φ)` in
+    /// the printed order (orientation fixed by the Levi-Civita connection of
+    /// the metric, test `torus_chart_self_consistent`) the energy is
+    /// `(m/2)(R²θ̇² + ρ²φ̇²) + (I/2)(ψ̇ − sin θ φ̇)²`: the printed `ψ̇ + sin θ φ̇`
+    /// (lines 5362, 5486) fails by `2Iψ̇ sin θ φ̇`, and holds after
+    /// `ψ → −ψ` (the order `(E_φ, E_θ)`, SPEC §8). In those flipped
+    /// coordinates the printed `G_ij` and `G^ij` are confirmed; the printed
+    /// Hamiltonian `½G^{ij}pp + V` (line 5426) is off by the factor `m`
+    /// (`(1/2m)G^{ij}pp + V` holds); the printed `J_θ` radicand
+    /// `R²[2m(E − V) − (J_φ − J_ψ sin θ)²/(4π²ρ²) + (m/I)J_ψ²/(4π²)]` has the
+    /// wrong sign in its last term (line 5458): `p_θ²` equals it with `−`.
+    #[test]
+    fn torus_gyroscope_printed_formulas(l in 1.5..4.0f64, r in 0.3..1.0f64, m in 0.5..2.0f64, moment in 0.1..1.0f64,
+                                        th in -4.0..4.0f64, psi in -4.0..4.0f64, b in -1.0..1.0f64,
+                                        td in -1.0..1.0f64, pd in -1.0..1.0f64, sd in -1.0..1.0f64) {
+        let sys = Gyroscope2::gyroscope(
+            TorusChart::new(l, r).unwrap(),
+            PlaneRotation,
+            &Gyroscope::isotropic(m, moment).unwrap(),
+            ZPoly { a: 0.0, b, radius: r },
+        );
+        let q = Vector3::new(th, 0.4, psi);
+        let v = Vector3::new(td, pd, sd);
+        let (s, c) = th.sin_cos();
+        let rho = l + r * c;
+        let v_pot = b * s;
+        let d = lagrangian_derivatives(&sys, &q, &v).unwrap();
+        let e = energy(&sys, &q, &v).unwrap();
+        let tol = 1e-12;
+
+        let t_tr = 0.5 * m * (r * r * td * td + rho * rho * pd * pd);
+        let mine = t_tr + 0.5 * moment * (sd - s * pd).powi(2);
+        prop_assert!((e - v_pot - mine).abs() <= tol * (1.0 + mine));
+        let printed = t_tr + 0.5 * moment * (sd + s * pd).powi(2);
+        prop_assert!(((printed - mine) - 2.0 * moment * sd * s * pd).abs() <= tol * (1.0 + mine));
+        let printed_flipped = t_tr + 0.5 * moment * (-sd + s * pd).powi(2);
+        prop_assert!((printed_flipped - mine).abs() <= tol * (1.0 + mine));
+
+        // Printed G, G^{-1} in the flipped coordinates (θ, φ, −ψ).
+        let flip = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, -1.0));
+        let mf = flip * d.mass * flip;
+        let im = moment / m;
+        let g = Matrix3::new(r * r, 0.0, 0.0, 0.0, rho * rho + im * s * s, im * s, 0.0, im * s, im);
+        prop_assert!(rel(&(mf / m), &g) <= tol);
+        let gi = Matrix3::new(1.0 / (r * r), 0.0, 0.0,
+                              0.0, 1.0 / (rho * rho), -s / (rho * rho),
+                              0.0, -s / (rho * rho), 1.0 / im + s * s / (rho * rho));
+        let gi_mine = mf.try_inverse().unwrap() * m;
+        prop_assert!(rel(&gi_mine, &gi) <= tol * gi.amax());
+
+        let pf = flip * d.momentum;
+        let quad = pf.dot(&(gi * pf));
+        prop_assert!((quad / (2.0 * m) + v_pot - e).abs() <= tol * (1.0 + e.abs()) * gi.amax());
+        if (m - 1.0).abs() > 0.1 {
+            prop_assert!((quad / 2.0 + v_pot - e).abs() > 1e-3 * quad);
+        }
+
+        let (pt, ell, sp) = (pf[0], pf[1], pf[2]);
+        let (jphi, jpsi) = (2.0 * PI * ell, 2.0 * PI * sp);
+        let radicand = |sign: f64| r * r * (2.0 * m * (e - v_pot) - (jphi - jpsi * s).powi(2) / (4.0 * PI * PI * rho * rho)
+            + sign * m / moment * jpsi * jpsi / (4.0 * PI * PI));
+        let fit = 1e-10 * (1.0 + pt * pt + e.abs());
+        prop_assert!((pt * pt - radicand(-1.0)).abs() <= fit);
+        prop_assert!(((pt * pt - radicand(1.0)).abs() - 2.0 * r * r * m / moment * sp * sp).abs() <= fit);
+    }
+
+    /// Affine body on S² in polar variables `φ = U(ψ)A`, `A = [[ξ, η], [η, ζ]]`,
+    /// `J = diag(J₁, J₂)` (§5.1, lines 3775–3800, 3825–3830): the coordinate
+    /// Lagrangian equals the printed kinetic energy once three misprints are
+    /// corrected (SPEC §8): `T_tr` needs `R² sin²(r/R) φ̇²` (line 3783), the
+    /// Coriolis coefficient of `η̇` is `J₁ξ − J₂ζ` (not `J₁ξ − J₂η`, line
+    /// 3788), and the Green tensor `⟨e_A, e_B⟩` built from the ambient frame
+    /// is `A²` with `G₂₂ = η² + ζ²` (not `ξ² + η²`, line 3828). Each printed
+    /// version is shown to differ by exactly its misprint.
+    #[test]
+    fn sphere_polar_affine_printed_formulas(radius in 0.5..2.0f64, m in 0.5..2.0f64, j1 in 0.1..1.0f64, j2 in 0.1..1.0f64,
+                                            t in 0.2..(PI - 0.2), psi in -4.0..4.0f64,
+                                            xi in 0.5..1.5f64, eta in -0.4..0.4f64, zeta in 0.5..1.5f64,
+                                            vel in proptest::array::uniform6(-1.0..1.0f64)) {
+        let sys = PolarAffine2::affine(
+            SphereChart::new(radius).unwrap(),
+            PolarDecomposition,
+            &Affine::new(m, Matrix2::new(j1, 0.0, 0.0, j2)).unwrap(),
+            Free,
+        );
+        let q = SVector::<f64, 6>::from([t * radius, 0.3, psi, xi, eta, zeta]);
+        let v = SVector::<f64, 6>::from(vel);
+        let (s, c) = t.sin_cos();
+        let e = energy(&sys, &q, &v).unwrap();
+        let (rd, pd, sd, xd, ed, zd) = (v[0], v[1], v[2], v[3], v[4], v[5]);
+        let omega = sd + c * pd;
+        let t_int_centrifugal = 0.5 * (j1 * xi * xi + (j1 + j2) * eta * eta + j2 * zeta * zeta) * omega * omega;
+        let coriolis = (-j1 * eta * xd + (j1 * xi - j2 * zeta) * ed + j2 * eta * zd) * omega;
+        let deformation = 0.5 * (j1 * xd * xd + (j1 + j2) * ed * ed + j2 * zd * zd);
+        let t_tr = 0.5 * m * (rd * rd + radius * radius * s * s * pd * pd);
+        let corrected = t_tr + t_int_centrifugal + coriolis + deformation;
+        let tol = 1e-12 * (1.0 + corrected);
+        prop_assert!((e - corrected).abs() <= tol);
+        let printed_tr = 0.5 * m * (rd * rd + s * s * pd * pd);
+        prop_assert!(((corrected - (printed_tr + t_int_centrifugal + coriolis + deformation))
+            - 0.5 * m * (radius * radius - 1.0) * s * s * pd * pd).abs() <= tol);
+        let printed_coriolis = (-j1 * eta * xd + (j1 * xi - j2 * eta) * ed + j2 * eta * zd) * omega;
+        prop_assert!(((coriolis - printed_coriolis) - j2 * (eta - zeta) * ed * omega).abs() <= tol);
+
+        let (_, frame) = sys.ambient_configuration(&q);
+        let g = green_tensor(&frame, &Matrix3::identity());
+        let a2 = Matrix2::new(xi * xi + eta * eta, eta * (xi + zeta), eta * (xi + zeta), eta * eta + zeta * zeta);
+        prop_assert!(rel(&g, &a2) <= 1e-14);
+        prop_assert!(((xi * xi + eta * eta) - g[(1, 1)]).abs() >= 0.99 * (xi * xi - zeta * zeta).abs());
+    }
+}
+
+/// `Pᵀ M P`: a mass matrix in the coordinates `q = P q'`.
+fn transform<const Q: usize>(m: &SMatrix<f64, Q, Q>, p: &SMatrix<f64, Q, Q>) -> SMatrix<f64, Q, Q> {
+    p.transpose() * m * p
+}
+
+/// `P` with `(x¹, x², α, β, λ, μ) = P (x¹, x², γ, δ, x, y)`:
+/// `α = (γ + δ)/2`, `β = (γ − δ)/2`, `λ = (x + y)/√2`, `μ = (y − x)/√2`
+/// (§5.1, the "mixed" coordinates after (a109)), each angle multiplied by
+/// `angle_sign`.
+fn mixed_coordinates(angle_sign: f64) -> SMatrix<f64, 6, 6> {
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let a = 0.5 * angle_sign;
+    let mut p = SMatrix::<f64, 6, 6>::zeros();
+    p[(0, 0)] = 1.0;
+    p[(1, 1)] = 1.0;
+    p[(2, 2)] = a;
+    p[(2, 3)] = a;
+    p[(3, 2)] = a;
+    p[(3, 3)] = -a;
+    p[(4, 4)] = h;
+    p[(4, 5)] = h;
+    p[(5, 4)] = -h;
+    p[(5, 5)] = h;
+    p
+}
+
+fn block_metric(m1: f64, m2: Matrix3<f64>, m3: f64) -> SMatrix<f64, 6, 6> {
+    let mut g = SMatrix::<f64, 6, 6>::zeros();
+    g[(0, 0)] = m1;
+    g.fixed_view_mut::<3, 3>(1, 1).copy_from(&m2);
+    g[(4, 4)] = m3;
+    g[(5, 5)] = m3;
+    g
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// Doubly isotropic affine body (`J = I·1`) in two-polar variables,
+    /// transformed to the paper's mixed coordinates `(r, φ, γ, δ, x, y)`.
+    /// S² (§5.1 before (a109)… the blocks `M₁`, `M₂`, `M₃`): confirmed,
+    /// including the deformation block `M₃ = (I/m)·1`, i.e. the term
+    /// `(I/2)Tr(Ḋ²)` that (a84) omits (line 2736, SPEC §8); the momenta obey
+    /// `p_α = p_γ + p_δ` and `p_β = p_γ − p_δ` (printed twice as `p_α`, line
+    /// 3934). T² (lines 5500–5520), in the paper's orientation (`α, β → −α, −β`,
+    /// SPEC §8): confirmed with `M₂[φ, δ] = (I/m)y² sin θ`; the printed
+    /// `(I/m)y² sin²θ` (lines 5514, 5518) is not, while the printed inverse
+    /// block `M₂⁻¹` (which uses `sin θ`) is.
+    #[test]
+    fn two_polar_blocks(radius in 0.5..2.0f64, m in 0.5..2.0f64, moment in 0.1..1.0f64, l in 2.5..4.0f64,
+                        t in 0.2..(PI - 0.2), al in -3.0..3.0f64, be in -3.0..3.0f64,
+                        lam in 0.5..1.5f64, mu in 0.5..1.5f64, vel in proptest::array::uniform6(-1.0..1.0f64)) {
+        prop_assume!((lam - mu).abs() > 0.05);
+        let body = Affine::isotropic(m, moment).unwrap();
+        let q = SVector::<f64, 6>::from([t * radius, 0.3, al, be, lam, mu]);
+        let v = SVector::<f64, 6>::from(vel);
+        let (x, y) = ((lam - mu) * std::f64::consts::FRAC_1_SQRT_2, (lam + mu) * std::f64::consts::FRAC_1_SQRT_2);
+        let im = moment / m;
+
+        let sphere = TwoPolarAffine2::affine(SphereChart::new(radius).unwrap(), TwoPolar, &body, Free);
+        let d = lagrangian_derivatives(&sphere, &q, &v).unwrap();
+        let p = mixed_coordinates(1.0);
+        let (s, c) = t.sin_cos();
+        let m2 = Matrix3::new(
+            radius * radius * s * s + im * (x * x + y * y) * c * c, im * x * x * c, im * y * y * c,
+            im * x * x * c, im * x * x, 0.0,
+            im * y * y * c, 0.0, im * y * y,
+        );
+        prop_assert!(rel(&(transform(&d.mass, &p) / m), &block_metric(1.0, m2, im)) <= 1e-12);
+        let pm = p.transpose() * d.momentum;
+        prop_assert!((d.momentum[2] - (pm[2] + pm[3])).abs() <= 1e-12 * (1.0 + pm.amax()));
+        prop_assert!((d.momentum[3] - (pm[2] - pm[3])).abs() <= 1e-12 * (1.0 + pm.amax()));
+
+        // Torus: θ = t, tube radius `radius`, L = l·radius.
+        let torus = TwoPolarAffine2::affine(TorusChart::new(l * radius, radius).unwrap(), TwoPolar, &body, Free);
+        let qt = SVector::<f64, 6>::from([t, 0.3, al, be, lam, mu]);
+        let dt = lagrangian_derivatives(&torus, &qt, &v).unwrap();
+        let pt = mixed_coordinates(-1.0);
+        let rho = l * radius + radius * c;
+        let m2t = |phi_delta: f64| Matrix3::new(
+            rho * rho + im * (x * x + y * y) * s * s, im * x * x * s, im * y * y * phi_delta,
+            im * x * x * s, im * x * x, 0.0,
+            im * y * y * phi_delta, 0.0, im * y * y,
+        );
+        let mt = transform(&dt.mass, &pt) / m;
+        prop_assert!(rel(&mt, &block_metric(radius * radius, m2t(s), im)) <= 1e-12);
+        prop_assert!(rel(&mt, &block_metric(radius * radius, m2t(s * s), im)) >= 0.5 * im * y * y * (s - s * s).abs() / (1.0 + rho * rho));
+        let r2 = rho * rho;
+        let m2_inv = Matrix3::new(
+            1.0 / r2, -s / r2, -s / r2,
+            -s / r2, 1.0 / (im * x * x) + s * s / r2, s * s / r2,
+            -s / r2, s * s / r2, 1.0 / (im * y * y) + s * s / r2,
+        );
+        let inv = mt.fixed_view::<3, 3>(1, 1).into_owned().try_inverse().unwrap();
+        prop_assert!(rel(&inv, &m2_inv) <= 1e-11 * m2_inv.amax());
+    }
+
+    /// S³ gyroscope, §6 (`J = (I/2)δ`, frame `ˡE`), free, at random states
+    /// (|r̄|, |κ| up to 2.5): the printed kinetic energy before (a184)
+    /// `½(m + I/R²)|Ω(R)|² − (I/R)Ω_rl·Ω(R) + (I/2)|Ω_rl|²` with `Ω(R) = ˡE⁻¹ṙ̄`
+    /// and `Ω_rl` the spatial angular velocity of `φ` (SPEC §7); the printed
+    /// Legendre map `S(R) = ∂T/∂Ω(R)`, `S_rl = ∂T/∂Ω_rl` agrees with the
+    /// canonical momenta (`S(R)_A = ˡE^i_A p_i`, `π = (∂Ω_rl/∂κ̇)ᵀ S_rl`), its
+    /// printed inverse, and the Hamiltonian (a184) equals the energy.
+    #[test]
+    fn sphere3_printed_formulas(radius in 0.5..2.0f64, m in 0.5..2.0f64, moment in 0.1..1.0f64,
+                                q in proptest::array::uniform6(-1.4..1.4f64), vel in proptest::array::uniform6(-1.0..1.0f64)) {
+        let sys = Gyroscope3::gyroscope(
+            Sphere3Chart::new(radius).unwrap(),
+            RotationVector,
+            &Gyroscope::isotropic(m, moment).unwrap(),
+            Free,
+        );
+        let mut q = SVector::<f64, 6>::from(q);
+        for k in 0..3 { q[k] *= radius; }
+        let v = SVector::<f64, 6>::from(vel);
+        let e = energy(&sys, &q, &v).unwrap();
+        let cm = sys.comoving(&q, &v).unwrap();
+        let om_r = cm.velocity;
+        let om_rl = so3_vee(&(cm.phi_dot * cm.phi.transpose()));
+        let t = 0.5 * (m + moment / (radius * radius)) * om_r.norm_squared() - moment / radius * om_rl.dot(&om_r)
+            + 0.5 * moment * om_rl.norm_squared();
+        prop_assert!((e - t).abs() <= 1e-12 * (1.0 + e));
+
+        let (s, srl) = s3_momenta(&sys, &q, &v, moment);
+        let p = momenta(&sys, &q, &v).unwrap();
+        let x = Vector3::new(q[0], q[1], q[2]);
+        let pr = Vector3::new(p[0], p[1], p[2]);
+        prop_assert!(rel(&(sys.chart().frame(&x).transpose() * pr), &s) <= 1e-12);
+        // ∂Ω_rl/∂κ̇ by the fibre's exact rate.
+        let kappa = Vector3::new(q[3], q[4], q[5]);
+        let ts = Matrix3::from_columns(&[0, 1, 2].map(|k| {
+            let (phi, rate) = RotationVector.matrix_and_rate(&kappa, &Vector3::from_fn(|i, _| if i == k { 1.0 } else { 0.0 }));
+            so3_vee(&(rate * phi.transpose()))
+        }));
+        prop_assert!(rel(&(ts.transpose() * srl), &Vector3::new(p[3], p[4], p[5])) <= 1e-12);
+        // Printed inverse Legendre map and (a184).
+        let r = radius;
+        prop_assert!(rel(&(s / m + srl / (m * r)), &om_r) <= 1e-12);
+        prop_assert!(rel(&(s / (m * r) + srl * ((moment + m * r * r) / (moment * m * r * r))), &om_rl) <= 1e-12);
+        let ham = s.norm_squared() / (2.0 * m) + s.dot(&srl) / (m * r)
+            + (moment + m * r * r) / (2.0 * moment * m * r * r) * srl.norm_squared();
+        prop_assert!((ham - e).abs() <= 1e-12 * (1.0 + e));
+    }
+}
+
+/// (a185): along a free S³ trajectory (RK4, h = 1e-3), the time derivatives
+/// of the paper's momenta, by central differences over ±1e-3, match the
+/// printed `dS(R)/dt = (2/(mR²)) S_rl × S(R)` and
+/// `dS_rl/dt = (1/(mR)) S(R) × S_rl` (confirmed to 1e-7 relative, the
+/// O(h²) difference error; measured 4.5e-9), while the opposite signs are off
+/// by twice the rates.
+#[test]
+fn sphere3_momentum_equations() {
+    let (m, moment, r) = (1.2, 0.5, 1.3);
+    let sys = Gyroscope3::gyroscope(
+        Sphere3Chart::new(r).unwrap(),
+        RotationVector,
+        &Gyroscope::isotropic(m, moment).unwrap(),
+        Free,
+    );
+    let q0 = SVector::<f64, 6>::from([0.3, -0.2, 0.5, 0.4, 0.1, -0.3]);
+    let v0 = SVector::<f64, 6>::from([0.2, 0.5, -0.1, 0.3, -0.6, 0.4]);
+    let h = 1e-3;
+    let (qp, vp) = rk4_step(&sys, &q0, &v0, h);
+    let (qm, vm) = rk4_step(&sys, &q0, &v0, -h);
+    let (s0, srl0) = s3_momenta(&sys, &q0, &v0, moment);
+    let (sp, srlp) = s3_momenta(&sys, &qp, &vp, moment);
+    let (sm, srlm) = s3_momenta(&sys, &qm, &vm, moment);
+    let ds = (sp - sm) / (2.0 * h);
+    let dsrl = (srlp - srlm) / (2.0 * h);
+    let ds_printed = srl0.cross(&s0) * (2.0 / (m * r * r));
+    let dsrl_printed = s0.cross(&srl0) * (1.0 / (m * r));
+    let e1 = (ds - ds_printed).norm() / ds_printed.norm();
+    let e2 = (dsrl - dsrl_printed).norm() / dsrl_printed.norm();
+    eprintln!("(a185a) rel. error {e1:.2e}, (a185b) {e2:.2e}");
+    assert!(e1 < 1e-7 && e2 < 1e-7);
+    assert!((ds + ds_printed).norm() > 1.9 * ds_printed.norm());
+    assert!((dsrl + dsrl_printed).norm() > 1.9 * dsrl_printed.norm());
+}
