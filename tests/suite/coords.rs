@@ -150,22 +150,22 @@ fn koszul_frame_connection<C: ChartGeometry<N, E>, const N: usize, const E: usiz
     let e = c.frame(x);
     let ei = e.try_inverse().unwrap();
     let mut out = [[[0.0; N]; N]; N];
-    for a in 0..N {
-        for b in 0..N {
-            for cc in 0..N {
-                // ∇_{E_C} E_B in chart components.
-                let mut nab = SVector::<f64, N>::zeros();
-                for i in 0..N {
-                    let mut s = 0.0;
-                    for j in 0..N {
-                        s += e[(j, cc)] * de[j][(i, b)];
-                        for k in 0..N {
-                            s += chr[i][j][k] * e[(j, cc)] * e[(k, b)];
-                        }
+    for b in 0..N {
+        for cc in 0..N {
+            // ∇_{E_C} E_B in chart components, then in the frame.
+            let nab = SVector::<f64, N>::from_fn(|i, _| {
+                let mut s = 0.0;
+                for j in 0..N {
+                    s += e[(j, cc)] * de[j][(i, b)];
+                    for k in 0..N {
+                        s += chr[i][j][k] * e[(j, cc)] * e[(k, b)];
                     }
-                    nab[i] = s;
                 }
-                out[a][b][cc] = (ei * nab)[a];
+                s
+            });
+            let in_frame = ei * nab;
+            for (a, oa) in out.iter_mut().enumerate() {
+                oa[b][cc] = in_frame[a];
             }
         }
     }

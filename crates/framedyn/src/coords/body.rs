@@ -335,7 +335,7 @@ where
         let phi = ea.transpose() * self.chart.ambient_metric() * frame;
         let scale = frame.norm().max(f64::MIN_POSITIVE);
         let d = (ea * phi - frame).norm() / scale;
-        if !(d <= FRAME_TANGENCY_TOLERANCE) {
+        if d.is_nan() || d > FRAME_TANGENCY_TOLERANCE {
             return Err(Error::Constraint {
                 field: "frame",
                 constraint: "frame vectors tangent to the manifold at the point",

@@ -148,7 +148,7 @@ fn solve_mass<const Q: usize>(m: &SMatrix<f64, Q, Q>, b: &SVector<f64, Q>) -> Re
     let inv = lu.try_inverse().ok_or_else(|| singular(f64::INFINITY))?;
     let inv = SMatrix::<f64, Q, Q>::from_column_slice(inv.as_slice());
     let cond = norm1(m) * norm1(&inv);
-    if !(cond <= MAX_MASS_CONDITION) {
+    if cond.is_nan() || cond > MAX_MASS_CONDITION {
         return Err(singular(if cond.is_nan() { f64::INFINITY } else { cond }));
     }
     let y = lu.solve(&DVector::from_column_slice(b.as_slice())).ok_or_else(|| singular(f64::INFINITY))?;
@@ -343,12 +343,12 @@ pub fn from_ambient<S: AmbientMap<Q, N, E>, const Q: usize, const N: usize, cons
         defect: d,
         tolerance: MAX_MASS_CONDITION,
     };
-    if !(dmin > 0.0) || dmax / dmin > MAX_MASS_CONDITION {
+    if dmin.is_nan() || dmin <= 0.0 || dmax / dmin > MAX_MASS_CONDITION {
         return Err(rank_defect(dmax / dmin));
     }
     let qdot = r.solve_upper_triangular(&(qr.q().transpose() * &rhs)).ok_or_else(|| rank_defect(f64::INFINITY))?;
     let residual = (&jac * &qdot - &rhs).norm() / rhs.norm().max(f64::MIN_POSITIVE);
-    if !(residual <= AMBIENT_RESIDUAL_TOLERANCE) {
+    if residual.is_nan() || residual > AMBIENT_RESIDUAL_TOLERANCE {
         return Err(Error::Constraint {
             field: "velocity, frame_rate",
             constraint: "rates of a curve in the configuration space (velocity tangent, frame rate compatible with the fibre)",

@@ -148,9 +148,12 @@ mod tests {
 
     /// Series and closed forms agree at the switch `s = 1` (both sides), and
     /// the series match the closed forms where those are well conditioned.
+    /// Name, the implementation, and the closed form.
+    type Case = (&'static str, fn(f64) -> f64, fn(f64) -> f64);
+
     #[test]
     fn series_match_closed_forms() {
-        let closed: [(&str, fn(f64) -> f64, fn(f64) -> f64); 7] = [
+        let closed: [Case; 7] = [
             ("sinc", sinc::<f64>, |s| s.sqrt().sin() / s.sqrt()),
             ("cos", cos::<f64>, |s| s.sqrt().cos()),
             ("dsinc", dsinc::<f64>, |s| {
