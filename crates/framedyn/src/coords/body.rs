@@ -303,7 +303,9 @@ where
                 }
             }
         }
-        let e = self.chart.ambient_frame(&k.x) * k.phi;
+        // A potential that ignores the frame gets the zero frame (saves the
+        // frame field and the embedding Jacobian at every evaluation).
+        let e = if self.potential.uses_frame() { self.chart.ambient_frame(&k.x) * k.phi } else { SMatrix::zeros() };
         let v = self.potential.value(&self.chart.embed(&k.x), &e, &self.chart.ambient_metric());
         t_tr + t_int * (0.5 * self.sign()) - v
     }
