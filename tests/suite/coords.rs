@@ -977,7 +977,7 @@ proptest! {
     /// including the deformation block `M₃ = (I/m)·1`, i.e. the term
     /// `(I/2)Tr(Ḋ²)` that (a84) omits (line 2736, SPEC §8); the momenta obey
     /// `p_α = p_γ + p_δ` and `p_β = p_γ − p_δ` (printed twice as `p_α`, line
-    /// 3934). T² (lines 5500–5520), in the paper's orientation (`α, β → −α, −β`,
+    /// 3934), and `p_α` is the spin `S¹²` of `CoMoving`. T² (lines 5500–5520), in the paper's orientation (`α, β → −α, −β`,
     /// SPEC §8): confirmed with `M₂[φ, δ] = (I/m)y² sin θ`; the printed
     /// `(I/m)y² sin²θ` (lines 5514, 5518) is not, while the printed inverse
     /// block `M₂⁻¹` (which uses `sin θ`) is.
@@ -1005,6 +1005,9 @@ proptest! {
         let pm = p.transpose() * d.momentum;
         prop_assert!((d.momentum[2] - (pm[2] + pm[3])).abs() <= 1e-12 * (1.0 + pm.amax()));
         prop_assert!((d.momentum[3] - (pm[2] - pm[3])).abs() <= 1e-12 * (1.0 + pm.amax()));
+        // The spin S¹² = (φJXᵀ − XJφᵀ)¹² is the momentum conjugate to α (SPEC §7).
+        let spin = sphere.comoving(&q, &v).unwrap().spin[(0, 1)];
+        prop_assert!((spin - d.momentum[2]).abs() <= 1e-12 * (1.0 + spin.abs()));
 
         // Torus: θ = t, tube radius `radius`, L = l·radius.
         let torus = TwoPolarAffine2::affine(TorusChart::new(l * radius, radius).unwrap(), TwoPolar, &body, Free);
