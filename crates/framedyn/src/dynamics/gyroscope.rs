@@ -67,7 +67,7 @@
 //! `p_φ = mR² sin²ϑ φ̇ + s cos ϑ`.
 //!
 //! # Signature
-//! `σ = −1` ([`Signature::Lorentz`](crate::body::Signature::Lorentz)) is the
+//! `σ = −1` ([`Signature::Lorentz`]) is the
 //! indefinite kinetic energy of (a138). What changes (derivation above):
 //! the canonical spin `s = −I α̇` is opposite to the kinematical `S¹² = I α̇`;
 //! with it the spin–curvature force keeps its form `K s ε u`; `α̇ = −s/I`; the

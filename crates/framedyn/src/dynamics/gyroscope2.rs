@@ -152,7 +152,13 @@ where
     /// on the manifold), `"e"` (not tangent, orthonormal, positively oriented;
     /// tolerance of [`FrameBundle::from_frame`]), `"v"` (not tangent,
     /// [`STATE_TOLERANCE`]), `"spin"` (not finite).
-    pub fn state(&self, p: &Vector3<f64>, v: &Vector3<f64>, e: &Matrix3x2<f64>, spin: f64) -> Result<Gyroscope2State<B::Group>> {
+    pub fn state(
+        &self,
+        p: &Vector3<f64>,
+        v: &Vector3<f64>,
+        e: &Matrix3x2<f64>,
+        spin: f64,
+    ) -> Result<Gyroscope2State<B::Group>> {
         finite("spin", [spin].iter())?;
         finite("p", p.iter())?;
         let g = self.bundle.from_frame(p, e).map_err(|err| rename_field(err, "q", "e"))?;
@@ -165,7 +171,13 @@ where
     /// (for a position-only potential the body's orientation is irrelevant
     /// to the motion of `x`). Errors as [`Gyroscope2Model::state`], and
     /// `"alpha"` if not finite.
-    pub fn state_at(&self, p: &Vector3<f64>, v: &Vector3<f64>, alpha: f64, spin: f64) -> Result<Gyroscope2State<B::Group>> {
+    pub fn state_at(
+        &self,
+        p: &Vector3<f64>,
+        v: &Vector3<f64>,
+        alpha: f64,
+        spin: f64,
+    ) -> Result<Gyroscope2State<B::Group>> {
         finite("spin", [spin].iter())?;
         finite("alpha", [alpha].iter())?;
         let g = bundle_element_at(&self.bundle, p)?;
@@ -179,7 +191,13 @@ where
     ///
     /// Errors: [`Error::NotFinite`] / [`Error::Constraint`] naming `"g"`,
     /// `"rho"`, `"u"`, `"spin"`.
-    pub fn state_from_parts(&self, g: &B::Group, rho: &So2, u: &Vector2<f64>, spin: f64) -> Result<Gyroscope2State<B::Group>> {
+    pub fn state_from_parts(
+        &self,
+        g: &B::Group,
+        rho: &So2,
+        u: &Vector2<f64>,
+        spin: f64,
+    ) -> Result<Gyroscope2State<B::Group>> {
         check_bundle_element(&self.bundle, g)?;
         let rho = So2::new(rho.cos(), rho.sin()).map_err(|err| rename_field(err, "So2 (cos, sin)", "rho"))?;
         finite("u", u.iter())?;
@@ -360,10 +378,7 @@ where
         let ks = self.bundle.curvature_at(g) * s;
         let (f, torque) = self.forces(g, rho);
         let acc = Vector2::new(f[0] - ks * u[1], f[1] + ks * u[0]) * self.inv_mass;
-        ProductAlgebra(
-            ProductAlgebra(xi, Vector1::new(self.rate * s)),
-            Vector3::new(acc[0], acc[1], torque),
-        )
+        ProductAlgebra(ProductAlgebra(xi, Vector1::new(self.rate * s)), Vector3::new(acc[0], acc[1], torque))
     }
 
     /// `E = (m/2)|u|² + σ s²/(2I) + V(x, e)`.

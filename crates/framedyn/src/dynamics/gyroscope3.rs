@@ -84,16 +84,14 @@ where
     pub fn new(bundle: B, body: Gyroscope<3>, potential: P) -> Result<Self> {
         let j = body.inertia();
         let op = Matrix3::identity() * j.trace() - j;
-        let inv = op
-            .cholesky()
-            .map(|c| c.inverse())
-            .filter(|m| m.iter().all(|v| v.is_finite()))
-            .ok_or(Error::Constraint {
+        let inv = op.cholesky().map(|c| c.inverse()).filter(|m| m.iter().all(|v| v.is_finite())).ok_or(
+            Error::Constraint {
                 field: "J",
                 constraint: "inertia operator (tr J)·1 − J positive definite with a finite inverse",
                 defect: f64::INFINITY,
                 tolerance: 0.0,
-            })?;
+            },
+        )?;
         let sigma = signature_sign(body.signature());
         Ok(Self {
             metric: bundle.ambient_metric(),
@@ -364,6 +362,11 @@ pub struct PaperMomenta {
 }
 
 impl PaperMomenta {
+    /// `(|S(R)|², |S_rl|²)`, the Casimirs of (a185): constant in free motion.
+    pub fn casimirs(&self) -> (f64, f64) {
+        (self.s.norm_squared(), self.s_rl.norm_squared())
+    }
+
     /// `C = (R/2)·S(R) + S_rl` (a186): constant in free motion; `2C = mRV + S_rl`
     /// is the momentum map of the left translations `x ↦ exp(t e_A)·x`.
     pub fn c(&self, radius: f64) -> Vector3<f64> {
