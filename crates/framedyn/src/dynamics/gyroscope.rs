@@ -67,13 +67,15 @@
 //! `p_φ = mR² sin²ϑ φ̇ + s cos ϑ`.
 //!
 //! # Signature
-//! `σ = −1` ([`Signature::Lorentz`]) is the
-//! indefinite kinetic energy of (a138). What changes (derivation above):
+//! `σ = −1` ([`Signature::Lorentz`]) is the indefinite kinetic energy of
+//! (a138). What changes (derivation above):
 //! the canonical spin `s = −I α̇` is opposite to the kinematical `S¹² = I α̇`;
 //! with it the spin–curvature force keeps its form `K s ε u`; `α̇ = −s/I`; the
 //! energy is `(m/2)|u|² − s²/(2I) + V`. In the radial Hamilton–Jacobi equation
 //! (a143) the term is therefore `+ (m/I)s²` for (a138) and `− (m/I)s²` for
-//! (a135) — the printed signs are swapped (SPEC §8).
+//! (a135) — the printed signs are swapped (SPEC §8). The tests compare both
+//! signatures with the SO(3) and SO(1,2) tops of (d94), (a142)/(b142) whose
+//! third moment is `±I`.
 
 use crate::body::Signature;
 
