@@ -16,7 +16,7 @@ use framedyn::body::{Gyroscope, Point, Signature};
 use framedyn::bundle::FrameBundle;
 use framedyn::coords::*;
 use framedyn::dynamics::{Gyroscope2Model, Gyroscope3Model, PointModel, System};
-use framedyn::lie::{LieGroup, So3};
+use framedyn::lie::So3;
 use framedyn::manifold::{Hyperbolic2, Sphere2, Sphere3, Torus2};
 use framedyn::potential::{Centre, CosineFamily, Free, Oscillator, Potential, Scalar, Sum};
 use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};
@@ -233,5 +233,153 @@ proptest! {
         let s3 = Sphere3::new(radius).unwrap();
         let pot = Sum::new(Oscillator::new(k, Centre::sphere3(&s3)).unwrap(), Axial::<3, 4> { a: 0.2, b, radius, axis: 1 });
         assert_all("S3 oscillator + frame", &gyro3_derivs(radius, body, pot, q, vv))?;
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Trajectories over t = 1
+// ---------------------------------------------------------------------------
+
+/// One classical RK4 step of the Euler–Lagrange equations (as in coords.rs).
+fn rk4_step<L: Lagrangian<Q>, const Q: usize>(
+    sys: &L,
+    q: &SVector<f64, Q>,
+    v: &SVector<f64, Q>,
+    h: f64,
+) -> (SVector<f64, Q>, SVector<f64, Q>) {
+    let acc = |q: &SVector<f64, Q>, v: &SVector<f64, Q>| accelerations(sys, q, v).expect("EL accelerations");
+    let a1 = acc(q, v);
+    let (q2, v2) = (q + v * (h / 2.0), v + a1 * (h / 2.0));
+    let a2 = acc(&q2, &v2);
+    let (q3, v3) = (q + v2 * (h / 2.0), v + a2 * (h / 2.0));
+    let a3 = acc(&q3, &v3);
+    let (q4, v4) = (q + v3 * h, v + a3 * h);
+    let a4 = acc(&q4, &v4);
+    (q + (v + v2 * 2.0 + v3 * 2.0 + v4) * (h / 6.0), v + (a1 + a2 * 2.0 + a3 * 2.0 + a4) * (h / 6.0))
+}
+
+/// Worst difference (max over steps) of ambient position and body frame
+/// between RK4 on `(q, q̇)` and RKMK4 on the bundle state, `n` steps to t = 1.
+fn trajectory_diff<L, S, const Q: usize, const N: usize, const E: usize>(
+    sys: &L,
+    model: &S,
+    y0: S::State,
+    q0: SVector<f64, Q>,
+    v0: SVector<f64, Q>,
+    n: usize,
+    read: impl Fn(&S::State) -> (SVector<f64, E>, SMatrix<f64, E, N>),
+) -> f64
+where
+    L: AmbientMap<Q, N, E>,
+    S: System,
+{
+    let h = 1.0 / n as f64;
+    let f = |t: f64, y: &S::State| model.vector_field(t, y);
+    let (mut q, mut v, mut y) = (q0, v0, y0);
+    let mut worst: f64 = 0.0;
+    for i in 0..n {
+        (q, v) = rk4_step(sys, &q, &v, h);
+        y = rkmk4_step(&y, i as f64 * h, h, &f);
+        let amb = ambient_state(sys, &q, &v).unwrap();
+        let (x, e) = read(&y);
+        worst = worst.max((x - amb.position).amax()).max((e - amb.frame).amax());
+    }
+    worst
+}
+
+const STEPS: usize = 400;
+const TRAJ_TOL: f64 = 1e-10;
+
+/// `diff(n)` at [`STEPS`]; if above [`TRAJ_TOL`], at twice the steps, which
+/// must both meet the tolerance and have shrunk ≥ 10× (RK4/RKMK4 truncation
+/// error, 16× at h/2) — so a real discrepancy, which does not shrink, fails.
+fn refine(what: &str, diff: impl Fn(usize) -> f64) -> Result<(), TestCaseError> {
+    let d1 = diff(STEPS);
+    if d1 <= TRAJ_TOL {
+        return Ok(());
+    }
+    let d2 = diff(2 * STEPS);
+    prop_assert!(d2 <= TRAJ_TOL && d1 / d2 >= 10.0, "{what}: {d1:e} at {STEPS} steps, {d2:e} at {}", 2 * STEPS);
+    Ok(())
+}
+
+fn gyro2_traj<C, B, P>(chart: C, bundle: B, body: Gyroscope<2>, pot: P, q: Vector3<f64>, v: Vector3<f64>, n: usize) -> f64
+where
+    C: ChartGeometry<2, 3>,
+    B: FrameBundle<2, 3> + Copy,
+    P: Potential<2, 3> + Clone,
+{
+    let sys = Gyroscope2::gyroscope(chart, PlaneRotation, &body, pot.clone());
+    let amb = ambient_state(&sys, &q, &v).unwrap();
+    let s = sys.comoving(&q, &v).unwrap().spin[(0, 1)];
+    let model = Gyroscope2Model::new(bundle, body, pot).unwrap();
+    let y = model.state(&amb.position, &amb.velocity, &amb.frame, s).unwrap();
+    trajectory_diff(&sys, &model, y, q, v, n, |y| (model.position(y), model.body_frame(y)))
+}
+
+fn point_traj<C, B, P>(chart: C, bundle: B, m: f64, pot: P, q: Vector2<f64>, v: Vector2<f64>, n: usize) -> f64
+where
+    C: ChartGeometry<2, 3>,
+    B: FrameBundle<2, 3> + Copy,
+    P: Potential<2, 3> + Clone,
+{
+    let point = Point::new(m).unwrap();
+    let sys = PointLagrangian::new(chart, &point, pot.clone());
+    let amb = ambient_state(&sys, &q, &v).unwrap();
+    let model = PointModel::<B, P, 2, 3>::new(bundle, point, pot).unwrap();
+    let y = model.state(&amb.position, &amb.velocity).unwrap();
+    // The point has no body frame (the coordinate side reports zeros).
+    trajectory_diff(&sys, &model, y, q, v, n, |y| (model.position(y), SMatrix::<f64, 3, 2>::zeros()))
+}
+
+proptest! {
+    #![proptest_config(config(6))]
+
+    #[test]
+    fn point_and_gyroscope2_trajectories_agree(
+        radius in 0.7..1.5f64, m in 0.7..1.5f64, moment in 0.3..1.0f64, lorentz in proptest::bool::ANY,
+        k in 0.1..1.0f64, b in -0.5..0.5f64,
+        th in 1.2..1.9f64, phi in -3.0..3.0f64, psi in -3.0..3.0f64, v in proptest::collection::vec(-0.5..0.5f64, 3),
+    ) {
+        let body = Gyroscope::<2>::isotropic(m, moment).unwrap().with_signature(sig(lorentz));
+        let vv = Vector3::new(v[0], v[1], v[2]);
+        let s2 = Sphere2::new(radius).unwrap();
+        let sc = SphereChart::new(radius).unwrap();
+        // Centred on the equator (a pole-centred oscillator drives the orbit into
+        // the chart singularity).
+        let osc = Oscillator::new(k, Centre::sphere2_at(&s2, &Vector3::new(radius, 0.0, 0.0)).unwrap()).unwrap();
+        refine("S2 point oscillator", |n| point_traj(sc.clone(), s2, m, osc, Vector2::new(th * radius, phi), Vector2::new(v[0], v[1]), n))?;
+        let pot = Sum::new(osc, Axial::<2, 3> { a: 0.3, b, radius, axis: 0 });
+        refine("S2 gyro oscillator + frame", |n| gyro2_traj(sc.clone(), s2, body, pot, Vector3::new(th * radius, phi, psi), vv, n))?;
+        let h2 = Hyperbolic2::new(radius).unwrap();
+        let hc = HyperbolicChart::new(radius).unwrap();
+        // No pole-centred oscillator here either: a tilt plus the frame term.
+        let pot = Axial::<2, 3> { a: k, b, radius, axis: 0 };
+        refine("H2 gyro tilt + frame", |n| gyro2_traj(hc.clone(), h2, body, pot, Vector3::new(th * radius * 0.7, phi, psi), vv, n))?;
+        let (bl, r) = (2.5 * radius, radius);
+        let t2 = Torus2::new(bl, r).unwrap();
+        let tc = TorusChart::new(bl, r).unwrap();
+        let pot = Axial::<2, 3> { a: k, b, radius: r, axis: 2 };
+        refine("T2 gyro axial + frame", |n| gyro2_traj(tc.clone(), t2, body, pot, Vector3::new(th * 2.0, phi, psi), vv, n))?;
+    }
+
+    #[test]
+    fn gyroscope3_trajectories_agree(
+        radius in 0.8..1.5f64, m in 0.7..1.5f64, lorentz in proptest::bool::ANY,
+        j in proptest::collection::vec(0.3..1.0f64, 3), b in -0.5..0.5f64,
+        x in proptest::collection::vec(-0.5..0.5f64, 6), v in proptest::collection::vec(-0.5..0.5f64, 6),
+    ) {
+        let body = Gyroscope::<3>::new(m, Matrix3::from_diagonal(&Vector3::new(j[0], j[1], j[2]))).unwrap()
+            .with_signature(sig(lorentz));
+        let mut q = SVector::<f64, 6>::from_column_slice(&x);
+        for i in 0..3 { q[i] *= radius; }
+        let vv = SVector::<f64, 6>::from_column_slice(&v);
+        let pot = Axial::<3, 4> { a: 0.2, b, radius, axis: 1 };
+        let sys = Gyroscope3::gyroscope(Sphere3Chart::new(radius).unwrap(), RotationVector, &body, pot);
+        let amb = ambient_state(&sys, &q, &vv).unwrap();
+        let pi = gyro3_spin(&sys.comoving(&q, &vv).unwrap());
+        let model = Gyroscope3Model::new(Sphere3::new(radius).unwrap(), body, pot).unwrap();
+        let y = model.state(&amb.position, &amb.velocity, &amb.frame, &pi).unwrap();
+        refine("S3 gyro axial + frame", |n| trajectory_diff(&sys, &model, y, q, vv, n, |y| (model.position(y), model.body_frame(y))))?;
     }
 }
