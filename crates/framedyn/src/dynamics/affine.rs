@@ -101,14 +101,18 @@
 //!
 //! GL⁺(N) is not complete under free motion: `det(ρ₀ + tρ̇₀)` vanishes at
 //! `t* = −1/λ` for the real negative eigenvalues `λ` of `Ω̂` (the body
-//! flattens and would turn inside out). The exponential map of the integrator
-//! cannot cross `det ρ = 0`, so near `t*` the numerical solution is
-//! meaningless. The model reports it: [`AffineBodyModel::free_collapse_time`]
-//! predicts `t*`, [`AffineBodyModel::check_state`] fails with a typed
-//! [`Error::Constraint`] (field `"rho"`) once
-//! `max(σ_max(ρ), 1)/σ_min(ρ) > 1e12` ([`COLLAPSE_TOLERANCE`]), and the
-//! vector field of an exactly singular `ρ` is non-finite (never a finite
-//! value) so integrators stop.
+//! flattens and would turn inside out), and `‖Ω̂‖` grows like `1/(t* − t)`.
+//! The exponential map of the integrator cannot cross `det ρ = 0`. The model
+//! reports the approach: [`AffineBodyModel::free_collapse_time`] predicts
+//! `t*`; [`AffineBodyModel::deformation_rate`] `= ‖Ω̂‖` is the step-size
+//! limit (an integrator keeping `h‖Ω̂‖ ≪ 1` approaches `t*` geometrically);
+//! [`AffineBodyModel::check_state`] fails with a typed [`Error::Constraint`]
+//! (field `"rho"`) once `max(σ_max(ρ), 1)/σ_min(ρ) > 1e12`
+//! ([`COLLAPSE_TOLERANCE`]), with [`Error::NotFinite`] for a state the
+//! exponential has overflowed, and the vector field of an exactly singular
+//! `ρ` is non-finite. What no model can do is recognise the finite but wrong
+//! state a fixed step *across* `t*` may produce (measured: `det ρ` jumps from
+//! 7e-3 to 1e6): that step had `h‖Ω̂‖ ≈ 1`, which the integrator must refuse.
 
 use std::fmt::Debug;
 
@@ -922,6 +926,19 @@ where
     /// `|det − 1|` for SL, the rotation's orthogonality defect for CO⁺).
     pub fn fibre_defect(&self, y: &BodyState<B, C, N, E>) -> f64 {
         y.0 .1.constraint_defect()
+    }
+    /// `‖Ω̂‖ = ‖ρ⁻¹ρ̇‖` (Frobenius): the inverse time scale of the internal
+    /// motion. A step `h` with `h‖Ω̂‖ ≳ 1` cannot resolve it; near a collapse
+    /// `‖Ω̂‖` grows like `1/(t* − t)`, so an integrator that keeps `h‖Ω̂‖` small
+    /// approaches `t*` geometrically and ends at the typed collapse error of
+    /// [`Self::check_state`], whereas a fixed step across `t*` lands on a
+    /// finite state that no state check can tell from a valid one.
+    pub fn deformation_rate(&self, y: &BodyState<B, C, N, E>) -> f64 {
+        let kin = self.kinematics(y);
+        match inverse(&kin.rho) {
+            Some(inv) => (inv * kin.rho_dot).norm(),
+            None => f64::INFINITY,
+        }
     }
     /// `max(σ_max(ρ), 1)/σ_min(ρ)`: the collapse measure checked against
     /// [`COLLAPSE_TOLERANCE`] (`+∞` for a singular or non-finite `ρ`).
