@@ -5,8 +5,10 @@ mod bundle_laws;
 mod lie_laws;
 mod manifold_laws;
 
+mod coords;
 mod hyperbolic;
 mod matrix_groups;
+mod potentials;
 mod sphere;
 mod sphere3;
 mod torus;

@@ -17,7 +17,7 @@
 pub mod hyperbolic2;
 pub mod sphere2;
 pub mod sphere3;
-mod torus2;
+pub mod torus2;
 
 #[allow(unused_imports)]
 pub use hyperbolic2::*;

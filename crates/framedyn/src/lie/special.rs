@@ -122,6 +122,25 @@ pub fn dexpinv(s: f64) -> f64 {
     }
 }
 
+/// `dexp_a(v) = v + cosc(s)·a × v + sinc3(s)·a × (a × v)`, `s = |a|²`: the
+/// closed-form `dexp` of a Lie algebra whose bracket is the cross product
+/// (so(3), su(2) in the paper's basis), where `ad_a³ = −s·ad_a`.
+#[inline]
+pub fn dexp_cross(a: &nalgebra::Vector3<f64>, v: &nalgebra::Vector3<f64>) -> nalgebra::Vector3<f64> {
+    let s = a.norm_squared();
+    let av = a.cross(v);
+    v + av * cosc(s) + a.cross(&av) * sinc3(s)
+}
+
+/// `dexp_a⁻¹(v) = v − ½·a × v + dexpinv(s)·a × (a × v)`, `s = |a|²`, valid for
+/// `|a| < 2π`: the inverse of [`dexp_cross`].
+#[inline]
+pub fn dexp_inv_cross(a: &nalgebra::Vector3<f64>, v: &nalgebra::Vector3<f64>) -> nalgebra::Vector3<f64> {
+    let s = a.norm_squared();
+    let av = a.cross(v);
+    v - av * 0.5 + a.cross(&av) * dexpinv(s)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

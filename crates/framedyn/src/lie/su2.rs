@@ -3,7 +3,7 @@
 use nalgebra::{Complex, DMatrix, Matrix2, Matrix4, Vector3, Vector4};
 
 use super::so3::quaternion_log_vector;
-use super::special::{cosc, dexpinv, sinc, sinc3};
+use super::special::{dexp_cross, dexp_inv_cross, sinc};
 use super::{LieGroup, So3};
 use crate::{Error, Result};
 
@@ -190,16 +190,12 @@ impl LieGroup for Su2 {
     /// `v + cosc(s)·a × v + sinc3(s)·a × (a × v)`, `s = |a|²`.
     #[inline]
     fn dexp(a: &Self::Algebra, v: &Self::Algebra) -> Self::Algebra {
-        let s = a.norm_squared();
-        let av = a.cross(v);
-        v + av * cosc(s) + a.cross(&av) * sinc3(s)
+        dexp_cross(a, v)
     }
     /// `v − ½·a × v + dexpinv(s)·a × (a × v)`, `s = |a|²` (valid for `|a| < 2π`).
     #[inline]
     fn dexp_inv(a: &Self::Algebra, v: &Self::Algebra) -> Self::Algebra {
-        let s = a.norm_squared();
-        let av = a.cross(v);
-        v - av * 0.5 + a.cross(&av) * dexpinv(s)
+        dexp_inv_cross(a, v)
     }
     fn algebra_from_coords(c: &[f64]) -> Self::Algebra {
         Vector3::new(c[0], c[1], c[2])
