@@ -11,7 +11,7 @@ use framedyn::dynamics::affine::{AffineBodyModel, AffineModel, BodyState, Intern
 use framedyn::dynamics::constrained::{DilatationModel, IncompressibleModel, WeylModel};
 use framedyn::dynamics::System;
 use framedyn::lie::LieGroup;
-use framedyn::manifold::{Hyperbolic2, Sphere2, Sphere3};
+use framedyn::manifold::{Hyperbolic2, Sphere2, Sphere3, Torus2};
 use framedyn::potential::{green_tensor, Potential, Scalar};
 use framedyn::Error;
 use nalgebra::{Matrix2, Matrix3, Rotation3, SMatrix, SVector, Vector2, Vector3};
@@ -162,6 +162,9 @@ fn h2() -> Hyperbolic2 {
 fn s3() -> Sphere3 {
     Sphere3::new(1.2).unwrap()
 }
+fn t2() -> Torus2 {
+    Torus2::new(2.0, 0.8).unwrap()
+}
 
 /// A bundle element of S² at polar chart point (r, φ) with frame angle ψ.
 fn g_s2(b: &Sphere2, r: f64, phi: f64, psi: f64) -> <Sphere2 as FrameBundle<2, 3>>::Group {
@@ -279,6 +282,10 @@ fn g_of_h2(b: &Hyperbolic2, p: &[f64]) -> <Hyperbolic2 as FrameBundle<2, 3>>::Gr
     let r = b.radius() * (0.1 + 0.7 * (p[0] + 1.0));
     g_h2(b, r, std::f64::consts::PI * p[1], std::f64::consts::PI * p[2])
 }
+fn g_of_t2(b: &Torus2, p: &[f64]) -> <Torus2 as FrameBundle<2, 3>>::Group {
+    let pi = std::f64::consts::PI;
+    b.from_chart(&Vector2::new(pi * p[0], pi * p[1]), &rot2(pi * p[2])).unwrap()
+}
 fn g_of_s3(b: &Sphere3, p: &[f64]) -> <Sphere3 as FrameBundle<3, 4>>::Group {
     let k = Vector3::new(p[0], p[1], p[2]) * 1.5;
     let w = Vector3::new(p[3], p[4], p[5]) * 1.5;
@@ -367,7 +374,7 @@ proptest! {
     /// Measured: `dE/dt`, the translational power balance, `dS/dt = N − Nᵀ`
     /// (torque-producing `Dipole` + elastic potential), and `dp_φ/dt = 0`,
     /// `dS/dt = 0` (elastic + axial potential), at random states of all four
-    /// models on S², H², S³ with random anisotropic `J`. Worst relative defect
+    /// models on S², H², T², S³ with random anisotropic `J`. Worst relative defect
     /// seen ≈ 1e-11 (the Richardson differences' own error); a sign error in any
     /// force or a wrong projection gives O(1).
     #[test]
@@ -386,11 +393,14 @@ proptest! {
         for kind in KINDS {
             let (bs2, bh2, bs3) = (s2(), h2(), s3());
             let (gs2, gh2, gs3) = (g_of_s2(&bs2, &p[25..]), g_of_h2(&bh2, &p[25..]), g_of_s3(&bs3, &p[25..]));
-            worst = worst.max(with_model!(kind, bs2.clone(), mass, j2, general, &gs2, &p, &u2, |m, y| { balance_defect(&m, &y, kind, false) }));
+            worst = worst.max(with_model!(kind, bs2, mass, j2, general, &gs2, &p, &u2, |m, y| { balance_defect(&m, &y, kind, false) }));
             worst = worst.max(with_model!(kind, bs2, mass, j2, symmetric, &gs2, &p, &u2, |m, y| { balance_defect(&m, &y, kind, true) }));
-            worst = worst.max(with_model!(kind, bh2.clone(), mass, j2, general, &gh2, &p, &u2, |m, y| { balance_defect(&m, &y, kind, false) }));
+            worst = worst.max(with_model!(kind, bh2, mass, j2, general, &gh2, &p, &u2, |m, y| { balance_defect(&m, &y, kind, false) }));
             worst = worst.max(with_model!(kind, bh2, mass, j2, symmetric, &gh2, &p, &u2, |m, y| { balance_defect(&m, &y, kind, true) }));
-            worst = worst.max(with_model!(kind, bs3.clone(), mass, j3, general, &gs3, &p, &u3, |m, y| { balance_defect(&m, &y, kind, false) }));
+            let (bt2, gt2) = (t2(), g_of_t2(&t2(), &p[25..]));
+            worst = worst.max(with_model!(kind, bt2, mass, j2, general, &gt2, &p, &u2, |m, y| { balance_defect(&m, &y, kind, false) }));
+            worst = worst.max(with_model!(kind, bt2, mass, j2, symmetric, &gt2, &p, &u2, |m, y| { balance_defect(&m, &y, kind, true) }));
+            worst = worst.max(with_model!(kind, bs3, mass, j3, general, &gs3, &p, &u3, |m, y| { balance_defect(&m, &y, kind, false) }));
             worst = worst.max(with_model!(kind, bs3, mass, j3, symmetric, &gs3, &p, &u3, |m, y| { balance_defect(&m, &y, kind, true) }));
         }
         println!("balance worst {worst:e}");
@@ -431,9 +441,11 @@ where
         if !conserved[i] {
             continue;
         }
-        let floor = 1e-12 * scale;
+        // Below 1e-11 relative the drift of 600–1200 steps is within a factor
+        // of a few of its round-off (~1e-13): its ratio measures nothing.
+        let floor = 1e-11 * scale;
         if exact[i] {
-            if e1[i] > floor || e2[i] > floor {
+            if e1[i] > 1e-14 * scale || e2[i] > 1e-14 * scale {
                 return Err(format!("{label}: {} not exactly conserved: {:e}, {:e}", NAMES[i], e1[i], e2[i]));
             }
             continue;
@@ -450,7 +462,7 @@ where
             ));
         }
     }
-    println!("{label}: drift(h/2) {:?} ratios {:?}", e2, ratios);
+    println!("{label}: drift(h/2) {:?} ratios {:?} relative {:e}", e2, ratios, e2.iter().take(3).fold(0.0f64, |a, b| a.max(*b)) / scale);
     Ok(ratios)
 }
 
@@ -458,11 +470,16 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
 
     /// Energy, spin, `p_φ` (all four models) and vorticity (isotropic `J`)
-    /// along RKMK4 trajectories (T = 3, h = 0.01 and 0.005) on S², H², S³, with
+    /// along RKMK4 trajectories (T = 3, h = 0.01 and 0.005) on S², H², T², S³, with
     /// the elastic + axial potential (all four conserved) and random
     /// anisotropic or isotropic `J`. Spin is conserved to round-off by
-    /// construction (symmetric torque, additive hypermomentum); the others
-    /// converge at fourth order.
+    /// construction (symmetric torque, additive hypermomentum; measured
+    /// ≤ 9.4e-16); the others converge at fourth order. Measured over 14
+    /// seeds (≈ 2600 trajectories): drift ratios per halving of h 10.8–34.5
+    /// (energy; pre-asymptotically the energy drift of RK4 can fall like h⁵),
+    /// 14.9–17.0 (`p_φ`), 14.3–32.4 (vorticity); worst drift at h/2 2.3e-8 of
+    /// the energy scale. Asserted: ratio in [10, 40] and drift < 1e-7·scale,
+    /// unless the drift is already below 1e-11·scale.
     #[test]
     fn invariants_converge_at_fourth_order(
         p in proptest::collection::vec(-1.0f64..1.0, 40),
@@ -486,6 +503,9 @@ proptest! {
             let r = with_model!(kind, bh2, mass, j2, pot, &gh2, &p, &u2, |m, y| { check_conservation(&format!("H2 {kind:?}"), &m, &y, 3.0, 0.01, cons, exact) });
             prop_assert!(r.is_ok(), "{}", r.unwrap_err());
             let r = with_model!(kind, bs3, mass, j3, pot, &gs3, &p, &u3, |m, y| { check_conservation(&format!("S3 {kind:?}"), &m, &y, 3.0, 0.01, cons, exact) });
+            prop_assert!(r.is_ok(), "{}", r.unwrap_err());
+            let (bt2, gt2) = (t2(), g_of_t2(&t2(), &p[25..]));
+            let r = with_model!(kind, bt2, mass, j2, pot, &gt2, &p, &u2, |m, y| { check_conservation(&format!("T2 {kind:?}"), &m, &y, 3.0, 0.01, cons, exact) });
             prop_assert!(r.is_ok(), "{}", r.unwrap_err());
         }
     }
@@ -547,7 +567,7 @@ fn fourth_order_convergence_of_state_and_energy() {
     let m = IncompressibleModel::new(bh, Incompressible::new(1.0, j2).unwrap(), pot).unwrap();
     let rs = rho2 / rho2.determinant().sqrt();
     run("H2 incompressible", &m, &m.state(&gh, &rs, &u2, &(rs * traceless(&rd2))).unwrap());
-    let m = WeylModel::new(b3.clone(), Weyl::new(1.2, j3).unwrap(), pot).unwrap();
+    let m = WeylModel::new(b3, Weyl::new(1.2, j3).unwrap(), pot).unwrap();
     let rw = rot3(&Vector3::new(0.3, -0.5, 0.2)) * 1.1;
     let om = Matrix3::new(0.2, -0.7, 0.4, 0.7, 0.2, -0.5, -0.4, 0.5, 0.2);
     run("S3 Weyl", &m, &m.state(&g3, &rw, &u3, &(rw * om)).unwrap());
@@ -599,12 +619,12 @@ fn free_internal_motion_is_linear_in_the_parallel_frame() {
     let rho = Matrix2::new(1.1, 0.3, -0.2, 0.8);
     let rd = Matrix2::new(0.4, -0.6, 0.5, 0.2);
     let u = Vector2::new(0.6, -0.9);
-    run("S2", b2.clone(), &g_s2(&b2, 0.8, 0.2, 0.3), j2, rho, rd, u);
-    run("H2", bh.clone(), &g_h2(&bh, 0.7, -0.4, 1.0), j2, rho, rd, u);
+    run("S2", b2, &g_s2(&b2, 0.8, 0.2, 0.3), j2, rho, rd, u);
+    run("H2", bh, &g_h2(&bh, 0.7, -0.4, 1.0), j2, rho, rd, u);
     let j3 = Matrix3::new(0.3, 0.05, 0.0, 0.05, 0.2, 0.04, 0.0, 0.04, 0.25);
     let rho3 = Matrix3::new(1.1, 0.2, 0.0, -0.1, 0.9, 0.2, 0.1, 0.0, 1.2);
     let rd3 = Matrix3::new(0.3, -0.4, 0.3, 0.4, 0.1, -0.2, -0.3, 0.2, 0.2);
-    run("S3", b3.clone(), &g_s3(&b3, &Vector3::new(0.5, -0.3, 0.9), &Vector3::new(0.2, 0.1, -0.4)), j3, rho3, rd3, Vector3::new(0.6, -0.9, 0.4));
+    run("S3", b3, &g_s3(&b3, &Vector3::new(0.5, -0.3, 0.9), &Vector3::new(0.2, 0.1, -0.4)), j3, rho3, rd3, Vector3::new(0.6, -0.9, 0.4));
 }
 
 proptest! {
@@ -613,7 +633,8 @@ proptest! {
     /// The spin–curvature force `−K S u` of (a59): orthogonal to `u` (relative
     /// 1e-15; its power `geometric_power` vanishes), equal to `−K·spin·u`, the
     /// same up to the factor `K` on S²(R), S²(2R) and H²(R) for the same
-    /// `(ρ, ρ̇, u)` — linear in `K`, so it vanishes for `K = 0` — exactly zero
+    /// `(ρ, ρ̇, u)` — linear in `K` — zero to round-off where `K = 0` (the
+    /// circles θ = ±π/2 of T², where `K = cos θ/(R(L + R cos θ))`), exactly zero
     /// for `S = 0` (dilatational body; affine body with `ρ = I`, `J ∝ I`, `ρ̇`
     /// symmetric), and it is exactly what the vector field adds to `m u̇` on
     /// top of the horizontal force.
@@ -625,9 +646,9 @@ proptest! {
         let pot = Sum(Elastic { kappa: 0.5 }, axial(&p[23..]));
         let (r, bh) = (1.3, Hyperbolic2::new(1.3).unwrap());
         let (bs, bs2) = (Sphere2::new(r).unwrap(), Sphere2::new(2.0 * r).unwrap());
-        let ms = AffineModel::new(bs.clone(), Affine::new(mass, j).unwrap(), pot).unwrap();
-        let ms2 = AffineModel::new(bs2.clone(), Affine::new(mass, j).unwrap(), pot).unwrap();
-        let mh = AffineModel::new(bh.clone(), Affine::new(mass, j).unwrap(), pot).unwrap();
+        let ms = AffineModel::new(bs, Affine::new(mass, j).unwrap(), pot).unwrap();
+        let ms2 = AffineModel::new(bs2, Affine::new(mass, j).unwrap(), pot).unwrap();
+        let mh = AffineModel::new(bh, Affine::new(mass, j).unwrap(), pot).unwrap();
         let ys = ms.state(&g_of_s2(&bs, &p[25..]), &rho, &u, &rd).unwrap();
         let ys2 = ms2.state(&g_of_s2(&bs2, &p[25..]), &rho, &u, &rd).unwrap();
         let yh = mh.state(&g_of_h2(&bh, &p[25..]), &rho, &u, &rd).unwrap();
@@ -639,11 +660,24 @@ proptest! {
         prop_assert!((ms2.geometric_force(&ys2) * 4.0 - f).amax() <= 1e-15 * f.amax());
         let xi = ms.vector_field(0.0, &ys);
         prop_assert!((xi.1 .0 * mass - ms.horizontal_force(&ys) - f).amax() <= 1e-14 * (1.0 + f.amax() + xi.1 .0.amax()));
+        // T²: K = cos θ/(R(L + R cos θ)) varies, vanishes on the circles θ = ±π/2.
+        let bt = t2();
+        let mt = AffineModel::new(bt, Affine::new(mass, j).unwrap(), pot).unwrap();
+        for theta in [0.3 * p[0], std::f64::consts::FRAC_PI_2, -std::f64::consts::FRAC_PI_2, 2.0 + p[1]] {
+            let gt = bt.from_chart(&Vector2::new(theta, p[2]), &rot2(p[3])).unwrap();
+            let yt = mt.state(&gt, &rho, &u, &rd).unwrap();
+            let k = theta.cos() / (bt.small_r() * (bt.big_l() + bt.small_r() * theta.cos()));
+            let ft = mt.geometric_force(&yt);
+            prop_assert!((ft + spin * u * k).amax() <= 1e-15 * (spin * u).amax() + 1e-300);
+            if theta.abs() == std::f64::consts::FRAC_PI_2 {
+                prop_assert!(ft.amax() <= 1e-16 * (spin * u).amax(), "K = 0: {}", ft.amax());
+            }
+        }
         // S = 0.
-        let md = DilatationModel::new(bs.clone(), Dilatation::new(mass, j).unwrap(), pot).unwrap();
+        let md = DilatationModel::new(bs, Dilatation::new(mass, j).unwrap(), pot).unwrap();
         let yd = md.state(&g_of_s2(&bs, &p[25..]), &(Matrix2::identity() * 1.2), &u, &(Matrix2::identity() * p[26])).unwrap();
         prop_assert_eq!(md.geometric_force(&yd), Vector2::zeros());
-        let mi = AffineModel::new(bs.clone(), Affine::isotropic(mass, 0.3).unwrap(), pot).unwrap();
+        let mi = AffineModel::new(bs, Affine::isotropic(mass, 0.3).unwrap(), pot).unwrap();
         let yi = mi.state(&g_of_s2(&bs, &p[25..]), &Matrix2::identity(), &u, &sym(&rd)).unwrap();
         prop_assert_eq!(mi.spin(&yi), Matrix2::zeros());
         prop_assert_eq!(mi.geometric_force(&yi), Vector2::zeros());
@@ -660,7 +694,7 @@ proptest! {
         let b = s2();
         let j = inertia::<2>(&p[30..], false);
         let (rho, rd) = internal(Kind::Full, &p, &SMatrix::identity());
-        let m = AffineModel::new(b.clone(), Affine::new(mass, j).unwrap(), Zero).unwrap();
+        let m = AffineModel::new(b, Affine::new(mass, j).unwrap(), Zero).unwrap();
         let y = m.state(&g_of_s2(&b, &p[25..]), &rho, &Vector2::new(p[20], p[21]), &rd).unwrap();
         let (x, v) = (m.position(&y), m.velocity(&y));
         let want = mass * (x[0] * v[1] - x[1] * v[0]) + m.p_alpha(&y) * x[2] / b.radius();
@@ -741,11 +775,11 @@ fn elastic_natural_state_is_a_stable_equilibrium() {
         assert!(err <= 1e-8 * kappa, "Hessian eigenvalues {ev:?}, expected {want:?}");
     }
     let b = s2();
-    run(b.clone(), g_s2(&b, 0.8, 0.2, 0.3), rot2(0.7));
+    run(b, g_s2(&b, 0.8, 0.2, 0.3), rot2(0.7));
     let b = h2();
-    run(b.clone(), g_h2(&b, 1.9, 0.2, 0.3), rot2(-2.1));
+    run(b, g_h2(&b, 1.9, 0.2, 0.3), rot2(-2.1));
     let b = s3();
-    run(b.clone(), g_s3(&b, &Vector3::new(0.5, -0.3, 0.9), &Vector3::new(0.2, 0.1, -0.4)), rot3(&Vector3::new(0.4, -0.2, 1.1)));
+    run(b, g_s3(&b, &Vector3::new(0.5, -0.3, 0.9), &Vector3::new(0.2, 0.1, -0.4)), rot3(&Vector3::new(0.4, -0.2, 1.1)));
 }
 
 /// Upward zero crossings of `c(t)`, located on the cubic Hermite interpolant
@@ -833,14 +867,14 @@ fn small_oscillations_have_the_linearised_periods() {
     let g = g_s2(&b, 0.8, 0.2, 0.3);
     let id2 = Matrix2::identity();
     let t_dil = TAU / (4.0 * kappa / j).sqrt();
-    check("S2 dilatation", measured_period(b.clone(), &g, id2 * j, kappa, id2, t_dil), t_dil);
+    check("S2 dilatation", measured_period(b, &g, id2 * j, kappa, id2, t_dil), t_dil);
     let t_shear = TAU / (2.0 * kappa / j).sqrt();
-    check("S2 shear", measured_period(b.clone(), &g, id2 * j, kappa, Matrix2::new(0.0, 1.0, 1.0, 0.0), t_shear), t_shear);
+    check("S2 shear", measured_period(b, &g, id2 * j, kappa, Matrix2::new(0.0, 1.0, 1.0, 0.0), t_shear), t_shear);
     let b3 = s3();
     let g3 = g_s3(&b3, &Vector3::new(0.5, -0.3, 0.9), &Vector3::new(0.2, 0.1, -0.4));
     let id3 = Matrix3::identity();
     let t_dil3 = TAU / (5.0 * kappa / j).sqrt();
-    check("S3 dilatation", measured_period(b3.clone(), &g3, id3 * j, kappa, id3, t_dil3), t_dil3);
+    check("S3 dilatation", measured_period(b3, &g3, id3 * j, kappa, id3, t_dil3), t_dil3);
     let t_shear3 = TAU / (2.0 * kappa / j).sqrt();
     check("S3 shear", measured_period(b3, &g3, id3 * j, kappa, Matrix3::new(1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0), t_shear3), t_shear3);
     // Anisotropic J on H²: generalised eigenproblem.
@@ -866,7 +900,7 @@ fn small_oscillations_have_the_linearised_periods() {
         let v = linv.transpose() * eig.eigenvectors.column(i);
         let x = Matrix2::from_column_slice(v.as_slice());
         let t = TAU / w2.sqrt();
-        check(&format!("H2 anisotropic mode ω² = {w2:.6}"), measured_period(bh.clone(), &gh, ja, kappa, x, t), t);
+        check(&format!("H2 anisotropic mode ω² = {w2:.6}"), measured_period(bh, &gh, ja, kappa, x, t), t);
         found += 1;
     }
     assert_eq!(found, 3);
@@ -902,7 +936,7 @@ fn constrained_bodies_stay_on_their_groups() {
     let rho: Matrix2<f64> = Matrix2::new(1.1, 0.3, -0.2, 0.8);
     let rho = rho / rho.determinant().sqrt();
     let rd = rho * traceless(&Matrix2::new(0.4, -0.6, 0.5, 0.2));
-    let m = IncompressibleModel::new(b2.clone(), Incompressible::new(1.0, j2).unwrap(), pot).unwrap();
+    let m = IncompressibleModel::new(b2, Incompressible::new(1.0, j2).unwrap(), pot).unwrap();
     let y0 = m.state(&g2, &rho, &u2, &rd).unwrap();
     let (mut worst, e0) = (0.0f64, m.energy(&y0));
     let mut de = 0.0f64;
@@ -911,14 +945,14 @@ fn constrained_bodies_stay_on_their_groups() {
         de = de.max((m.energy(y) - e0).abs());
     });
     rows.push(("SL(2) on S2: |det ρ − 1|", worst, de));
-    let full = AffineModel::new(b2.clone(), Affine::new(1.0, j2).unwrap(), pot).unwrap();
+    let full = AffineModel::new(b2, Affine::new(1.0, j2).unwrap(), pot).unwrap();
     let yf = integrate(&full, &full.state(&g2, &rho, &u2, &rd).unwrap(), h, steps, |_, _| {});
     assert!(full.unimodularity_defect(&yf) > 0.05, "control: {}", full.unimodularity_defect(&yf));
 
     let rho3: Matrix3<f64> = Matrix3::new(1.1, 0.2, 0.0, -0.1, 0.9, 0.2, 0.1, 0.0, 1.2);
     let rho3 = rho3 / rho3.determinant().cbrt();
     let rd3 = rho3 * traceless(&Matrix3::new(0.3, -0.4, 0.3, 0.4, 0.1, -0.2, -0.3, 0.2, 0.2));
-    let m = IncompressibleModel::new(b3.clone(), Incompressible::new(1.0, j3).unwrap(), pot).unwrap();
+    let m = IncompressibleModel::new(b3, Incompressible::new(1.0, j3).unwrap(), pot).unwrap();
     let y0 = m.state(&g3, &rho3, &u3, &rd3).unwrap();
     let (mut worst, e0, mut de) = (0.0f64, m.energy(&y0), 0.0f64);
     integrate(&m, &y0, h, steps, |_, y| {
@@ -930,7 +964,7 @@ fn constrained_bodies_stay_on_their_groups() {
     // CO⁺(2) on H², CO⁺(3) on S³.
     let rw = rot2(0.4) * 1.2;
     let rdw = rw * Matrix2::new(0.3, -0.5, 0.5, 0.3);
-    let m = WeylModel::new(bh.clone(), Weyl::new(1.0, j2).unwrap(), confining).unwrap();
+    let m = WeylModel::new(bh, Weyl::new(1.0, j2).unwrap(), confining).unwrap();
     let y0 = m.state(&gh, &rw, &u2, &rdw).unwrap();
     let (mut worst, e0, mut de) = (0.0f64, m.energy(&y0), 0.0f64);
     integrate(&m, &y0, h, steps, |_, y| {
@@ -938,13 +972,13 @@ fn constrained_bodies_stay_on_their_groups() {
         de = de.max((m.energy(y) - e0).abs());
     });
     rows.push(("CO+(2) on H2: conformality", worst, de));
-    let full = AffineModel::new(bh.clone(), Affine::new(1.0, j2).unwrap(), confining).unwrap();
+    let full = AffineModel::new(bh, Affine::new(1.0, j2).unwrap(), confining).unwrap();
     let yf = integrate(&full, &full.state(&gh, &rw, &u2, &rdw).unwrap(), h, steps, |_, _| {});
     assert!(full.conformality_defect(&yf) > 0.05, "control: {}", full.conformality_defect(&yf));
 
     let rw3 = rot3(&Vector3::new(0.3, -0.5, 0.2)) * 1.1;
     let rdw3 = rw3 * Matrix3::new(0.2, -0.7, 0.4, 0.7, 0.2, -0.5, -0.4, 0.5, 0.2);
-    let m = WeylModel::new(b3.clone(), Weyl::new(1.0, j3).unwrap(), pot).unwrap();
+    let m = WeylModel::new(b3, Weyl::new(1.0, j3).unwrap(), pot).unwrap();
     let y0 = m.state(&g3, &rw3, &u3, &rdw3).unwrap();
     let (mut worst, e0, mut de) = (0.0f64, m.energy(&y0), 0.0f64);
     integrate(&m, &y0, h, steps, |_, y| {
@@ -955,7 +989,7 @@ fn constrained_bodies_stay_on_their_groups() {
 
     // ℝ⁺ on S² with a reference shape that is not the identity.
     let shape = Matrix2::new(1.2, 0.3, -0.1, 0.7);
-    let m = DilatationModel::new(b2.clone(), Dilatation::new(1.0, j2).unwrap(), pot).unwrap().with_reference_shape(&shape).unwrap();
+    let m = DilatationModel::new(b2, Dilatation::new(1.0, j2).unwrap(), pot).unwrap().with_reference_shape(&shape).unwrap();
     let y0 = m.state(&g2, &(shape * 1.3), &u2, &(shape * 0.4)).unwrap();
     let (mut worst, e0, mut de) = (0.0f64, m.energy(&y0), 0.0f64);
     integrate(&m, &y0, h, steps, |_, y| {
@@ -1037,44 +1071,45 @@ fn constrained_bodies_reduce_to_the_affine_body_when_the_forces_allow() {
     // Weyl, N = 2, J ∝ I, elastic potential: exact on S² and H².
     let rw = rot2(0.4) * 1.2;
     let rdw = rw * Matrix2::new(0.3, -0.5, 0.5, 0.3);
-    for (label, b, g) in [("S2", b2.clone(), g2), ] {
-        let mw = WeylModel::new(b.clone(), Weyl::isotropic(1.0, 0.25).unwrap(), elastic).unwrap();
-        let mf = AffineModel::new(b.clone(), Affine::isotropic(1.0, 0.25).unwrap(), elastic).unwrap();
+    {
+        let (label, b, g) = ("S2", b2, g2);
+        let mw = WeylModel::new(b, Weyl::isotropic(1.0, 0.25).unwrap(), elastic).unwrap();
+        let mf = AffineModel::new(b, Affine::isotropic(1.0, 0.25).unwrap(), elastic).unwrap();
         assert_reduction!(format!("Weyl(2) = affine on {label}, J ∝ I, elastic"), mw, mw.state(&g, &rw, &u2, &rdw).unwrap(), mf, mf.state(&g, &rw, &u2, &rdw).unwrap(), t = 3.0, h = 0.01, exact = true);
         // control: anisotropic J
-        let mw = WeylModel::new(b.clone(), Weyl::new(1.0, j2).unwrap(), elastic).unwrap();
-        let mf = AffineModel::new(b.clone(), Affine::new(1.0, j2).unwrap(), elastic).unwrap();
+        let mw = WeylModel::new(b, Weyl::new(1.0, j2).unwrap(), elastic).unwrap();
+        let mf = AffineModel::new(b, Affine::new(1.0, j2).unwrap(), elastic).unwrap();
         assert_reduction!(format!("Weyl(2) ≠ affine on {label}, anisotropic J"), mw, mw.state(&g, &rw, &u2, &rdw).unwrap(), mf, mf.state(&g, &rw, &u2, &rdw).unwrap(), t = 3.0, h = 0.01, exact = false);
     }
-    let mw = WeylModel::new(bh.clone(), Weyl::isotropic(1.0, 0.25).unwrap(), elastic).unwrap();
-    let mf = AffineModel::new(bh.clone(), Affine::isotropic(1.0, 0.25).unwrap(), elastic).unwrap();
+    let mw = WeylModel::new(bh, Weyl::isotropic(1.0, 0.25).unwrap(), elastic).unwrap();
+    let mf = AffineModel::new(bh, Affine::isotropic(1.0, 0.25).unwrap(), elastic).unwrap();
     assert_reduction!("Weyl(2) = affine on H2, J ∝ I, elastic", mw, mw.state(&gh, &rw, &u2, &rdw).unwrap(), mf, mf.state(&gh, &rw, &u2, &rdw).unwrap(), t = 3.0, h = 0.01, exact = true);
     // Weyl, N = 2, free internal motion: exact for any J.
-    let mw = WeylModel::new(bh.clone(), Weyl::new(1.0, j2).unwrap(), position).unwrap();
-    let mf = AffineModel::new(bh.clone(), Affine::new(1.0, j2).unwrap(), position).unwrap();
+    let mw = WeylModel::new(bh, Weyl::new(1.0, j2).unwrap(), position).unwrap();
+    let mf = AffineModel::new(bh, Affine::new(1.0, j2).unwrap(), position).unwrap();
     assert_reduction!("Weyl(2) = affine on H2, free internal motion, anisotropic J", mw, mw.state(&gh, &rw, &u2, &rdw).unwrap(), mf, mf.state(&gh, &rw, &u2, &rdw).unwrap(), t = 3.0, h = 0.01, exact = true);
     // Weyl, N = 3, rotating: never exact (ω² not ∝ I), even free with J ∝ I.
     let rw3 = rot3(&Vector3::new(0.3, -0.5, 0.2)) * 1.1;
     let rdw3 = rw3 * Matrix3::new(0.2, -0.7, 0.4, 0.7, 0.2, -0.5, -0.4, 0.5, 0.2);
-    let mw = WeylModel::new(b3.clone(), Weyl::isotropic(1.0, 0.25).unwrap(), position).unwrap();
-    let mf = AffineModel::new(b3.clone(), Affine::isotropic(1.0, 0.25).unwrap(), position).unwrap();
+    let mw = WeylModel::new(b3, Weyl::isotropic(1.0, 0.25).unwrap(), position).unwrap();
+    let mf = AffineModel::new(b3, Affine::isotropic(1.0, 0.25).unwrap(), position).unwrap();
     assert_reduction!("Weyl(3) ≠ affine on S3, rotating", mw, mw.state(&g3, &rw3, &u3, &rdw3).unwrap(), mf, mf.state(&g3, &rw3, &u3, &rdw3).unwrap(), t = 3.0, h = 0.01, exact = false);
     // Weyl, N = 3, non-rotating, J ∝ I, elastic: exact, and = the dilatational body with ρ₀ = R.
     let rdd3 = rw3 * 0.3;
-    let mw = WeylModel::new(b3.clone(), Weyl::isotropic(1.0, 0.25).unwrap(), elastic).unwrap();
-    let mf = AffineModel::new(b3.clone(), Affine::isotropic(1.0, 0.25).unwrap(), elastic).unwrap();
-    let md = DilatationModel::new(b3.clone(), Dilatation::isotropic(1.0, 0.25).unwrap(), elastic).unwrap().with_reference_shape(&(rw3 / 1.1)).unwrap();
+    let mw = WeylModel::new(b3, Weyl::isotropic(1.0, 0.25).unwrap(), elastic).unwrap();
+    let mf = AffineModel::new(b3, Affine::isotropic(1.0, 0.25).unwrap(), elastic).unwrap();
+    let md = DilatationModel::new(b3, Dilatation::isotropic(1.0, 0.25).unwrap(), elastic).unwrap().with_reference_shape(&(rw3 / 1.1)).unwrap();
     assert_reduction!("Weyl(3) = affine on S3, no rotation, J ∝ I, elastic", mw, mw.state(&g3, &rw3, &u3, &rdd3).unwrap(), mf, mf.state(&g3, &rw3, &u3, &rdd3).unwrap(), t = 3.0, h = 0.01, exact = true);
     assert_reduction!("dilatation(ρ₀ = R) = affine on S3, J ∝ I, elastic", md, md.state(&g3, &rw3, &u3, &rdd3).unwrap(), mf, mf.state(&g3, &rw3, &u3, &rdd3).unwrap(), t = 3.0, h = 0.01, exact = true);
 
     // Dilatation, free internal motion, any J and reference shape: exact (H²).
     let shape = Matrix2::new(1.2, 0.3, -0.1, 0.7);
-    let md = DilatationModel::new(bh.clone(), Dilatation::new(1.0, j2).unwrap(), position).unwrap().with_reference_shape(&shape).unwrap();
-    let mf = AffineModel::new(bh.clone(), Affine::new(1.0, j2).unwrap(), position).unwrap();
+    let md = DilatationModel::new(bh, Dilatation::new(1.0, j2).unwrap(), position).unwrap().with_reference_shape(&shape).unwrap();
+    let mf = AffineModel::new(bh, Affine::new(1.0, j2).unwrap(), position).unwrap();
     assert_reduction!("dilatation = affine on H2, free internal motion", md, md.state(&gh, &(shape * 1.3), &u2, &(shape * 0.4)).unwrap(), mf, mf.state(&gh, &(shape * 1.3), &u2, &(shape * 0.4)).unwrap(), t = 3.0, h = 0.01, exact = true);
     // control: elastic potential with that shape and J.
-    let md = DilatationModel::new(bh.clone(), Dilatation::new(1.0, j2).unwrap(), elastic).unwrap().with_reference_shape(&shape).unwrap();
-    let mf = AffineModel::new(bh.clone(), Affine::new(1.0, j2).unwrap(), elastic).unwrap();
+    let md = DilatationModel::new(bh, Dilatation::new(1.0, j2).unwrap(), elastic).unwrap().with_reference_shape(&shape).unwrap();
+    let mf = AffineModel::new(bh, Affine::new(1.0, j2).unwrap(), elastic).unwrap();
     assert_reduction!("dilatation ≠ affine on H2, elastic, sheared shape", md, md.state(&gh, &(shape * 1.3), &u2, &(shape * 0.4)).unwrap(), mf, mf.state(&gh, &(shape * 1.3), &u2, &(shape * 0.4)).unwrap(), t = 3.0, h = 0.01, exact = false);
 
     // SL, free internal motion with nilpotent Ω̂ (simple shear), any J: pressure ≡ 0, exact.
@@ -1082,8 +1117,8 @@ fn constrained_bodies_reduce_to_the_affine_body_when_the_forces_allow() {
     let shear2 = p2 * Matrix2::new(0.0, 0.6, 0.0, 0.0) * p2.try_inverse().unwrap();
     let rs: Matrix2<f64> = Matrix2::new(1.1, 0.3, -0.2, 0.8);
     let rs = rs / rs.determinant().sqrt();
-    let ms = IncompressibleModel::new(bh.clone(), Incompressible::new(1.0, j2).unwrap(), position).unwrap();
-    let mf = AffineModel::new(bh.clone(), Affine::new(1.0, j2).unwrap(), position).unwrap();
+    let ms = IncompressibleModel::new(bh, Incompressible::new(1.0, j2).unwrap(), position).unwrap();
+    let mf = AffineModel::new(bh, Affine::new(1.0, j2).unwrap(), position).unwrap();
     let ys = ms.state(&gh, &rs, &u2, &(rs * shear2)).unwrap();
     let mut pmax = 0.0f64;
     integrate(&ms, &ys, 0.01, 300, |_, y| pmax = pmax.max(ms.pressure(y).abs()));
@@ -1094,13 +1129,13 @@ fn constrained_bodies_reduce_to_the_affine_body_when_the_forces_allow() {
     let shear3 = p3 * Matrix3::new(0.0, 0.5, 0.3, 0.0, 0.0, -0.4, 0.0, 0.0, 0.0) * p3.try_inverse().unwrap();
     let rs3: Matrix3<f64> = Matrix3::new(1.1, 0.2, 0.0, -0.1, 0.9, 0.2, 0.1, 0.0, 1.2);
     let rs3 = rs3 / rs3.determinant().cbrt();
-    let ms = IncompressibleModel::new(b3.clone(), Incompressible::new(1.0, j3).unwrap(), position).unwrap();
-    let mf = AffineModel::new(b3.clone(), Affine::new(1.0, j3).unwrap(), position).unwrap();
+    let ms = IncompressibleModel::new(b3, Incompressible::new(1.0, j3).unwrap(), position).unwrap();
+    let mf = AffineModel::new(b3, Affine::new(1.0, j3).unwrap(), position).unwrap();
     assert_reduction!("SL(3) = affine on S3, free nilpotent shear", ms, ms.state(&g3, &rs3, &u3, &(rs3 * shear3)).unwrap(), mf, mf.state(&g3, &rs3, &u3, &(rs3 * shear3)).unwrap(), t = 3.0, h = 0.01, exact = true);
     // control: a traceless Ω̂ that is not nilpotent needs a pressure.
     let rot_shear = Matrix2::new(0.5, 0.2, 0.3, -0.5);
     let ys = ms_state_h2(&bh, j2, &gh, &rs, &u2, &(rs * rot_shear));
-    let ms2 = IncompressibleModel::new(bh.clone(), Incompressible::new(1.0, j2).unwrap(), position).unwrap();
+    let ms2 = IncompressibleModel::new(bh, Incompressible::new(1.0, j2).unwrap(), position).unwrap();
     assert!(ms2.pressure(&ys).abs() > 1e-2, "pressure {}", ms2.pressure(&ys));
     assert_reduction!("SL(2) ≠ affine on H2, non-nilpotent Ω̂", ms2, ys, mf_h2(&bh, j2), mf_h2(&bh, j2).state(&gh, &rs, &u2, &(rs * rot_shear)).unwrap(), t = 3.0, h = 0.01, exact = false);
 }
@@ -1113,12 +1148,12 @@ fn ms_state_h2(
     u: &Vector2<f64>,
     rd: &Matrix2<f64>,
 ) -> St<Hyperbolic2, framedyn::dynamics::constrained::Isochoric, 2, 3> {
-    let m = IncompressibleModel::new(b.clone(), Incompressible::new(1.0, j).unwrap(), Axial { a: 0.4, b: 0.3 }).unwrap();
+    let m = IncompressibleModel::new(*b, Incompressible::new(1.0, j).unwrap(), Axial { a: 0.4, b: 0.3 }).unwrap();
     m.state(g, rho, u, rd).unwrap()
 }
 
 fn mf_h2(b: &Hyperbolic2, j: Matrix2<f64>) -> AffineModel<Hyperbolic2, Axial, 2, 3> {
-    AffineModel::new(b.clone(), Affine::new(1.0, j).unwrap(), Axial { a: 0.4, b: 0.3 }).unwrap()
+    AffineModel::new(*b, Affine::new(1.0, j).unwrap(), Axial { a: 0.4, b: 0.3 }).unwrap()
 }
 
 // ---------------------------------------------------------------------------
@@ -1149,7 +1184,7 @@ fn collapse_is_predicted_and_reported() {
     use framedyn::lie::{Gl, Product, Rn};
     let b = s2();
     let j = Matrix2::new(0.3, 0.07, 0.07, 0.15);
-    let m = AffineModel::new(b.clone(), Affine::new(1.0, j).unwrap(), Axial { a: 0.4, b: 0.3 }).unwrap();
+    let m = AffineModel::new(b, Affine::new(1.0, j).unwrap(), Axial { a: 0.4, b: 0.3 }).unwrap();
     let g = g_s2(&b, 0.8, 0.2, 0.3);
     let rd = Matrix2::new(-1.0, 0.2, 0.1, 0.3);
     let u = Vector2::new(0.6, -0.9);
@@ -1240,7 +1275,7 @@ fn collapse_is_predicted_and_reported() {
     assert_eq!(m.free_collapse_time(&m.state(&g, &Matrix2::identity(), &u, &(Matrix2::identity() * 0.3)).unwrap()), None);
 
     // The dilatational body: λ(t) = λ₀ + tλ̇₀ reaches 0 at −λ₀/λ̇₀.
-    let md = DilatationModel::new(b.clone(), Dilatation::new(1.0, j).unwrap(), Axial { a: 0.4, b: 0.3 }).unwrap();
+    let md = DilatationModel::new(b, Dilatation::new(1.0, j).unwrap(), Axial { a: 0.4, b: 0.3 }).unwrap();
     let yd = md.state(&g, &(Matrix2::identity() * 1.2), &u, &(Matrix2::identity() * -0.4)).unwrap();
     assert!((md.free_collapse_time(&yd).unwrap() - 3.0).abs() < 1e-15);
     let yd = integrate(&md, &yd, 0.01, 100, |_, _| {});
@@ -1262,7 +1297,7 @@ fn invalid_states_are_typed_errors() {
     let (id, u) = (Matrix2::<f64>::identity(), Vector2::new(0.6, -0.9));
     let rd = Matrix2::new(0.4, -0.6, 0.5, 0.2);
     let nan = f64::NAN;
-    let m = AffineModel::new(b.clone(), Affine::new(1.0, j).unwrap(), Zero).unwrap();
+    let m = AffineModel::new(b, Affine::new(1.0, j).unwrap(), Zero).unwrap();
     let field = |e: Error| match e {
         Error::NotFinite { field } => ("NotFinite", field),
         Error::InvalidParameter { field, .. } => ("InvalidParameter", field),
@@ -1279,7 +1314,7 @@ fn invalid_states_are_typed_errors() {
     let e = m.state(&g, &Matrix2::new(1.0, 0.0, 0.0, -1.0), &u, &rd).unwrap_err();
     assert!(e.to_string().contains("det(rho)") && e.to_string().contains("> 0"), "{e}");
 
-    let ms = IncompressibleModel::new(b.clone(), Incompressible::new(1.0, j).unwrap(), Zero).unwrap();
+    let ms = IncompressibleModel::new(b, Incompressible::new(1.0, j).unwrap(), Zero).unwrap();
     assert_eq!(field(ms.state(&g, &(id * 1.05), &u, &rd).unwrap_err()), ("Constraint", "rho"));
     assert_eq!(field(ms.state(&g, &id, &u, &id).unwrap_err()), ("Constraint", "rho_dot"));
     assert!(ms.state(&g, &id, &u, &traceless(&rd)).is_ok());
@@ -1287,15 +1322,15 @@ fn invalid_states_are_typed_errors() {
     let e = ms.state(&g, &id, &u, &id).unwrap_err();
     assert!(e.to_string().contains("rho_dot") && e.to_string().contains("tr(ρ⁻¹ρ̇) = 0"), "{e}");
 
-    let mw = WeylModel::new(b.clone(), Weyl::new(1.0, j).unwrap(), Zero).unwrap();
+    let mw = WeylModel::new(b, Weyl::new(1.0, j).unwrap(), Zero).unwrap();
     assert_eq!(field(mw.state(&g, &Matrix2::new(1.0, 0.1, 0.0, 1.0), &u, &Matrix2::zeros()).unwrap_err()), ("Constraint", "rho"));
     assert_eq!(field(mw.state(&g, &rot2(0.3), &u, &(rot2(0.3) * Matrix2::new(0.0, 1.0, 1.0, 0.0))).unwrap_err()), ("Constraint", "rho_dot"));
     assert!(mw.state(&g, &(rot2(0.3) * 2.0), &u, &(rot2(0.3) * Matrix2::new(0.5, -1.0, 1.0, 0.5))).is_ok());
 
-    let md = DilatationModel::new(b.clone(), Dilatation::new(1.0, j).unwrap(), Zero).unwrap();
+    let md = DilatationModel::new(b, Dilatation::new(1.0, j).unwrap(), Zero).unwrap();
     assert_eq!(field(md.state(&g, &rot2(0.3), &u, &Matrix2::zeros()).unwrap_err()), ("Constraint", "rho"));
     assert_eq!(field(md.state(&g, &id, &u, &Matrix2::new(0.0, -1.0, 1.0, 0.0)).unwrap_err()), ("Constraint", "rho_dot"));
-    let md2 = DilatationModel::new(b.clone(), Dilatation::new(1.0, j).unwrap(), Zero).unwrap();
+    let md2 = DilatationModel::new(b, Dilatation::new(1.0, j).unwrap(), Zero).unwrap();
     assert_eq!(field(md2.with_reference_shape(&Matrix2::new(1.0, 0.0, 0.0, -1.0)).unwrap_err()), ("InvalidParameter", "det(rho0)"));
     assert_eq!(field(md.with_reference_shape(&Matrix2::from_element(nan)).unwrap_err()), ("NotFinite", "rho0"));
 
@@ -1309,4 +1344,133 @@ fn invalid_states_are_typed_errors() {
     bad.1 .1 .0[(0, 1)] = f64::INFINITY;
     assert_eq!(field(m.check_state(&bad).unwrap_err()), ("NotFinite", "momentum"));
     assert!(m.check_state(&y).is_ok() && m.defect(&y) < 1e-15);
+}
+
+// ---------------------------------------------------------------------------
+// Cross-checks: the paper's coordinate form, the built-in elastic potential
+// ---------------------------------------------------------------------------
+
+/// The ambient state `(X, Ẋ, e, ė)` of a model state: `ė = q̇ρ + qρ̇` with `q̇`
+/// the (normal) rate of the parallel frame along the horizontal lift.
+fn ambient_of<B, V, C>(m: &AffineBodyModel<B, V, C, 2, 3>, y: &St<B, C, 2, 3>) -> framedyn::coords::AmbientState<2, 3>
+where
+    B: FrameBundle<2, 3>,
+    V: Potential<2, 3>,
+    C: InternalConstraint<2>,
+{
+    let g = &y.0 .0;
+    let b = m.bundle();
+    let kin = m.kinematics(y);
+    let q = b.frame_vectors(g);
+    let (velocity, q_dot) = b.frame_velocity(g, &b.horizontal_lift(g, &y.1 .0 .0));
+    framedyn::coords::AmbientState {
+        position: m.position(y),
+        velocity,
+        frame: q * kin.rho,
+        frame_rate: q_dot * kin.rho + q * kin.rho_dot,
+    }
+}
+
+/// `Ẍ` and `ë` of the model along its flow at `y` (Richardson differences of
+/// `Ẋ`, `ė` along `y·exp(±εf(y))`).
+fn ambient_acceleration_of<B, V, C>(m: &AffineBodyModel<B, V, C, 2, 3>, y: &St<B, C, 2, 3>) -> (Vector3<f64>, SMatrix<f64, 3, 2>)
+where
+    B: FrameBundle<2, 3>,
+    V: Potential<2, 3>,
+    C: InternalConstraint<2>,
+{
+    let xi = m.vector_field(0.0, y);
+    let at = |eps: f64| ambient_of(m, &y.compose(&<St<B, C, 2, 3> as LieGroup>::exp(&(xi * eps))));
+    let d = |eps: f64| {
+        let (p, q) = (at(eps), at(-eps));
+        ((p.velocity - q.velocity) / (2.0 * eps), (p.frame_rate - q.frame_rate) / (2.0 * eps))
+    };
+    let eps = 2e-3;
+    let ((a1, f1), (a2, f2)) = (d(eps), d(eps / 2.0));
+    ((a2 * 4.0 - a1) / 3.0, (f2 * 4.0 - f1) / 3.0)
+}
+
+/// The frame-bundle model and the paper's coordinate ("E-gauge") Lagrangian
+/// `Affine2` (module `coords`, Euler–Lagrange by automatic differentiation, an
+/// independent derivation from (a52) + (a74)) describe the same motion: at
+/// random states on S², H², T² (away from the chart poles), with an
+/// anisotropic `J` and the general potential (elastic + dipole, so that every
+/// force, torque and coupling is active), the ambient accelerations `Ẍ`, `ë`
+/// agree. Measured worst relative difference ≈ 1e-10 (the Richardson
+/// differences' error); a wrong sign of the spin–curvature force or of the
+/// torque gives O(1).
+#[test]
+fn agrees_with_the_coordinate_form_of_the_paper() {
+    use framedyn::coords::{accelerations, ambient_acceleration, from_ambient, Affine2, GlEntries, HyperbolicChart, SphereChart, TorusChart};
+    fn compare<B, C>(label: &str, b: B, chart: C, g: &B::Group, p: &[f64]) -> f64
+    where
+        B: FrameBundle<2, 3>,
+        C: framedyn::coords::ChartGeometry<2, 3>,
+    {
+        let j = inertia::<2>(&p[30..], false);
+        let pot = Sum(Elastic { kappa: 0.7 }, Dipole { a: 0.4 * p[23], b: 0.3 * p[24] });
+        let body = Affine::new(1.3, j).unwrap();
+        let m = AffineModel::new(b, body, pot).unwrap();
+        let (rho, rd) = internal(Kind::Full, p, &SMatrix::identity());
+        let y = m.state(g, &rho, &Vector2::new(p[20], p[21]), &rd).unwrap();
+        let lag = Affine2::affine(chart, GlEntries, &body, pot);
+        let (q, qd) = from_ambient(&lag, &ambient_of(&m, &y)).unwrap();
+        let qdd = accelerations(&lag, &q, &qd).unwrap();
+        let want = ambient_acceleration(&lag, &q, &qd, &qdd).unwrap();
+        let (acc, facc) = ambient_acceleration_of(&m, &y);
+        let scale = 1.0 + want.acceleration.amax() + want.frame_acceleration.amax();
+        let err = (acc - want.acceleration).amax().max((facc - want.frame_acceleration).amax()) / scale;
+        assert!(err < 1e-8, "{label}: ambient accelerations differ by {err:e} (scale {scale})");
+        err
+    }
+    let mut rng = 0x9E3779B97F4A7C15u64;
+    let mut next = || {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        (rng >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let mut worst: f64 = 0.0;
+    for _ in 0..16 {
+        let p: Vec<f64> = (0..40).map(|_| next()).collect();
+        let (bs, bh, bt) = (s2(), h2(), t2());
+        worst = worst.max(compare("S2", bs, SphereChart::new(bs.radius()).unwrap(), &g_of_s2(&bs, &p[25..]), &p));
+        worst = worst.max(compare("H2", bh, HyperbolicChart::new(bh.radius()).unwrap(), &g_of_h2(&bh, &p[25..]), &p));
+        worst = worst.max(compare("T2", bt, TorusChart::new(bt.big_l(), bt.small_r()).unwrap(), &g_of_t2(&bt, &p[25..]), &p));
+    }
+    println!("frame-bundle form vs coordinate form: worst relative difference {worst:e}");
+}
+
+/// The library's elastic potential (a131) (`potential::Elastic`, written in
+/// parallel and with its own gradient) drives the model exactly like the
+/// local test potential of the same formula: identical vector fields
+/// (relative 1e-13) at random states on S² and H².
+#[test]
+fn builtin_elastic_potential_matches_the_local_one() {
+    let lib = framedyn::potential::Elastic::new(0.7).unwrap();
+    let local = Elastic { kappa: 0.7 };
+    let j = Matrix2::new(0.3, 0.07, 0.07, 0.15);
+    let (bs, bh) = (s2(), h2());
+    let (ma, mb) = (AffineModel::new(bs, Affine::new(1.0, j).unwrap(), lib).unwrap(), AffineModel::new(bs, Affine::new(1.0, j).unwrap(), local).unwrap());
+    let (mc, md) = (AffineModel::new(bh, Affine::new(1.0, j).unwrap(), lib).unwrap(), AffineModel::new(bh, Affine::new(1.0, j).unwrap(), local).unwrap());
+    let mut rng = 0x2545F4914F6CDD1Du64;
+    let mut next = || {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        (rng >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    for _ in 0..32 {
+        let p: Vec<f64> = (0..40).map(|_| next()).collect();
+        let (rho, rd) = internal(Kind::Full, &p, &SMatrix::identity());
+        let u = Vector2::new(p[20], p[21]);
+        for (fa, fb) in [
+            (ma.vector_field(0.0, &ma.state(&g_of_s2(&bs, &p[25..]), &rho, &u, &rd).unwrap()), mb.vector_field(0.0, &mb.state(&g_of_s2(&bs, &p[25..]), &rho, &u, &rd).unwrap())),
+            (mc.vector_field(0.0, &mc.state(&g_of_h2(&bh, &p[25..]), &rho, &u, &rd).unwrap()), md.vector_field(0.0, &md.state(&g_of_h2(&bh, &p[25..]), &rho, &u, &rd).unwrap())),
+        ] {
+            let scale = 1.0 + fb.1 .1.amax() + fb.1 .0.amax();
+            let err = (fa.1 .1 - fb.1 .1).amax().max((fa.1 .0 - fb.1 .0).amax()) / scale;
+            assert!(err < 1e-13, "built-in vs local elastic: {err:e}");
+        }
+    }
 }

@@ -653,7 +653,7 @@ where
         let omega = inverse(&rho_s).unwrap_or_else(|| Mat::<N>::from_element(f64::NAN)) * rho_dot;
         let scale = omega.amax();
         let defect = if scale > 0.0 { self.constraint.velocity_defect(&omega) / scale } else { 0.0 };
-        if !(defect <= STATE_TOLERANCE) {
+        if defect.is_nan() || defect > STATE_TOLERANCE {
             return Err(Error::Constraint {
                 field: "rho_dot",
                 constraint: C::TANGENCY,
@@ -983,7 +983,7 @@ pub(crate) fn conformality_defect<const N: usize>(rho: &Mat<N>) -> f64 {
 /// collapsed ([`Error::Constraint`], field `"rho"`).
 pub(crate) fn check_regular<const N: usize>(rho: &Mat<N>) -> Result<()> {
     let d = det(rho);
-    if !(d > 0.0) {
+    if d.is_nan() || d <= 0.0 {
         return Err(Error::InvalidParameter {
             field: "det(rho)",
             value: d,
@@ -991,7 +991,7 @@ pub(crate) fn check_regular<const N: usize>(rho: &Mat<N>) -> Result<()> {
         });
     }
     let c = collapse_ratio(rho);
-    if !(c <= COLLAPSE_TOLERANCE) {
+    if c.is_nan() || c > COLLAPSE_TOLERANCE {
         return Err(Error::Constraint {
             field: "rho",
             constraint: "body not collapsed: max(σ_max(ρ), 1)/σ_min(ρ) ≤ 1e12",
@@ -1106,5 +1106,75 @@ where
         } else {
             parts.iter().fold(0.0, |a, &b| a.max(b))
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn xorshift(seed: u64) -> impl FnMut() -> f64 {
+        let mut s = seed;
+        move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        }
+    }
+
+    fn check_inverse<const N: usize>(rng: &mut impl FnMut() -> f64) {
+        for _ in 0..200 {
+            let m = Mat::<N>::identity() + Mat::<N>::from_fn(|_, _| rng()) * (0.6 / N as f64);
+            let inv = inverse(&m).expect("invertible");
+            let err = (m * inv - Mat::<N>::identity()).amax();
+            assert!(err < 1e-14, "N = {N}: |m m⁻¹ − I| = {err:e}");
+        }
+        let mut singular = Mat::<N>::identity();
+        singular[(0, 0)] = 0.0;
+        for i in 0..N {
+            singular[(0, i)] = 0.0;
+        }
+        assert!(inverse(&singular).is_none());
+        assert!(inverse(&Mat::<N>::from_element(f64::NAN)).is_none());
+    }
+
+    /// The closed-form inverses (n ≤ 3) and the LU fallback (n = 4).
+    #[test]
+    fn inverse_closed_forms() {
+        let mut rng = xorshift(0x1234_5678_9abc_def1);
+        check_inverse::<1>(&mut rng);
+        check_inverse::<2>(&mut rng);
+        check_inverse::<3>(&mut rng);
+        check_inverse::<4>(&mut rng);
+    }
+
+    /// `tr(AB)` and the inverse of the rotational inertia operator
+    /// `ω ↦ Jω + ωJ` on skew matrices.
+    #[test]
+    fn trace_of_product_and_rotational_solve() {
+        let mut rng = xorshift(0x0bad_cafe_f00d_1234);
+        for _ in 0..100 {
+            let a = Mat::<3>::from_fn(|_, _| rng());
+            let b = Mat::<3>::from_fn(|_, _| rng());
+            assert!((trace_of_product(&a, &b) - (a * b).trace()).abs() < 1e-15);
+            let l = Mat::<3>::from_fn(|_, _| rng());
+            let inertia = Inertia::new(&(Mat::<3>::identity() * 0.1 + l * l.transpose() * 0.2)).unwrap();
+            let c = Mat::<3>::from_fn(|_, _| rng());
+            let c = c - c.transpose();
+            let w = inertia.solve_rotational(&c);
+            let j = inertia.matrix();
+            assert!((j * w + w * j - c).amax() < 1e-13, "Jω + ωJ ≠ c");
+            assert!((w + w.transpose()).amax() < 1e-14, "ω not skew");
+            assert!((inertia.inverse() * j - Mat::<3>::identity()).amax() < 1e-13);
+        }
+    }
+
+    /// `Inertia::new` rejects what `check_inertia` rejects, with the field `"J"`.
+    #[test]
+    fn inertia_validation() {
+        assert!(matches!(Inertia::new(&Mat::<2>::new(1.0, 0.0, 0.0, -1.0)), Err(Error::Constraint { field: "J", .. })));
+        assert!(matches!(Inertia::new(&Mat::<2>::new(1.0, 0.5, 0.0, 1.0)), Err(Error::Constraint { field: "J", .. })));
+        assert!(matches!(Inertia::new(&Mat::<2>::new(1.0, 0.0, 0.0, f64::NAN)), Err(Error::NotFinite { field: "J" })));
     }
 }

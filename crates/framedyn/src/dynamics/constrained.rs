@@ -53,7 +53,7 @@
 //! relative to the parallel frame, so `ρ(t) = λ(t)ρ₀` with a **fixed reference
 //! shape** `ρ₀` (`PureDilatation::new`; the default `ρ₀ = I` makes the body
 //! frame `λ` times an orthonormal parallel frame, as in
-//! [`Dilatation`](crate::body::Dilatation)). `ρ₀` is constraint data, not a
+//! [`Dilatation`]). `ρ₀` is constraint data, not a
 //! degree of freedom. With `c = tr(ρ₀Jρ₀ᵀ)`: `T_int = ½cλ̇²`, and the trace of
 //! (c59), (b63):
 //!
@@ -121,7 +121,7 @@ impl<const N: usize> InternalConstraint<N> for Isochoric {
     }
     fn fibre(&self, rho: &Mat<N>) -> Result<Sl<N>> {
         let defect = (det(rho) - 1.0).abs();
-        if !(defect <= STATE_TOLERANCE) {
+        if defect.is_nan() || defect > STATE_TOLERANCE {
             return Err(Error::Constraint {
                 field: "rho",
                 constraint: "incompressible: det ρ = 1",
@@ -216,7 +216,7 @@ impl<const N: usize> InternalConstraint<N> for Conformal {
     }
     fn fibre(&self, rho: &Mat<N>) -> Result<Co<N>> {
         let defect = conformality_defect(rho);
-        if !(defect <= STATE_TOLERANCE) {
+        if defect.is_nan() || defect > STATE_TOLERANCE {
             return Err(Error::Constraint {
                 field: "rho",
                 constraint: "conformal: ρᵀρ = λ²I, λ = det(ρ)^{1/n}",
@@ -337,7 +337,7 @@ impl<const N: usize> InternalConstraint<N> for PureDilatation<N> {
     fn fibre(&self, rho: &Mat<N>) -> Result<Rn<1>> {
         let ln_lambda = (det(rho) / det(&self.shape)).ln() / N as f64;
         let defect = (rho - self.shape * ln_lambda.exp()).amax() / rho.amax();
-        if !(defect <= STATE_TOLERANCE) {
+        if defect.is_nan() || defect > STATE_TOLERANCE {
             return Err(Error::Constraint {
                 field: "rho",
                 constraint: "pure dilatation of the reference shape: ρ = λρ₀",
