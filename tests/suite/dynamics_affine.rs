@@ -200,16 +200,33 @@ where
     V: Potential<N, E>,
     C: InternalConstraint<N>,
 {
+    drift_and_collapse(m, y0, t_end, h).0
+}
+
+/// [`drift`], and the largest collapse ratio `max(σ_max, 1)/σ_min` of `ρ` met.
+fn drift_and_collapse<B, V, C, const N: usize, const E: usize>(
+    m: &AffineBodyModel<B, V, C, N, E>,
+    y0: &St<B, C, N, E>,
+    t_end: f64,
+    h: f64,
+) -> ([f64; 4], f64)
+where
+    B: FrameBundle<N, E>,
+    V: Potential<N, E>,
+    C: InternalConstraint<N>,
+{
     let (e0, s0, p0, w0) = (m.energy(y0), m.spin(y0), m.p_phi(y0), m.vorticity(y0));
     let mut err = [0.0f64; 4];
+    let mut collapse = m.collapse_ratio(y0);
     let steps = (t_end / h).round() as usize;
     integrate(m, y0, h, steps, |_, y| {
         err[0] = err[0].max((m.energy(y) - e0).abs());
         err[1] = err[1].max((m.spin(y) - s0).amax());
         err[2] = err[2].max((m.p_phi(y) - p0).abs());
         err[3] = err[3].max((m.vorticity(y) - w0).amax());
+        collapse = collapse.max(m.collapse_ratio(y));
     });
-    err
+    (err, collapse)
 }
 
 /// `d/dt f(y)` along the flow at `y`: central differences along
@@ -412,11 +429,16 @@ proptest! {
 // Conservation along integrated trajectories, with convergence
 // ---------------------------------------------------------------------------
 
-/// Drift of (energy, spin, p_φ, vorticity) at `h` and `h/2`. Asserts, for
-/// each conserved quantity: either both drifts are at round-off
-/// (`≤ floor`), or the drift at `h/2` is below `bound` and smaller by a factor
-/// in `[lo, hi]` (≈ 16 for RKMK4). Quantities listed in `exact` (spin when
-/// the torque is symmetric) must stay at round-off at both step sizes.
+/// Drift of (energy, spin, p_φ, vorticity) at `h` and `h/2`. `Ok(None)` if
+/// the body came near collapse (its collapse ratio `max(σ_max, 1)/σ_min`
+/// grew tenfold on the path), which force-free bodies can
+/// (`det(ρ₀ + tρ̇₀) = 0`; see the collapse test). Asserts, for
+/// each conserved quantity: if the drift at `h/2` exceeds the round-off
+/// floor `1e-11·scale`, it is below `1e-7·scale` and smaller than the drift
+/// at `h` by a factor in `[10, 40]` (≈ 16 for RKMK4; a wrong equation gives
+/// ≈ 1); otherwise the drift at `h` is below `64·floor`. Quantities listed in
+/// `exact` (spin when the torque is symmetric) stay below `1e-14·scale` at
+/// both step sizes.
 #[allow(clippy::too_many_arguments)]
 fn check_conservation<B, V, C, const N: usize, const E: usize>(
     label: &str,
@@ -426,14 +448,17 @@ fn check_conservation<B, V, C, const N: usize, const E: usize>(
     h: f64,
     conserved: [bool; 4],
     exact: [bool; 4],
-) -> Result<[f64; 4], String>
+) -> Result<Option<[f64; 4]>, String>
 where
     B: FrameBundle<N, E>,
     V: Potential<N, E>,
     C: InternalConstraint<N>,
 {
     const NAMES: [&str; 4] = ["energy", "spin", "p_phi", "vorticity"];
-    let e1 = drift(m, y0, t_end, h);
+    let (e1, c1) = drift_and_collapse(m, y0, t_end, h);
+    if c1 > 10.0 * m.collapse_ratio(y0) {
+        return Ok(None);
+    }
     let e2 = drift(m, y0, t_end, h / 2.0);
     let scale = 1.0 + m.energy(y0).abs() + m.translational_energy(y0) + m.internal_energy(y0);
     let mut ratios = [f64::NAN; 4];
@@ -450,7 +475,12 @@ where
             }
             continue;
         }
-        if e1[i] <= floor && e2[i] <= floor {
+        if e2[i] <= floor {
+            // At h/2 already at the round-off scale: the ratio would measure
+            // round-off; the drift at h must then be small too.
+            if e1[i] > 64.0 * floor {
+                return Err(format!("{label}: {} drift {:e} at h = {h}, {:e} at h/2", NAMES[i], e1[i], e2[i]));
+            }
             continue;
         }
         let r = e1[i] / e2[i];
@@ -463,7 +493,7 @@ where
         }
     }
     println!("{label}: drift(h/2) {:?} ratios {:?} relative {:e}", e2, ratios, e2.iter().take(3).fold(0.0f64, |a, b| a.max(*b)) / scale);
-    Ok(ratios)
+    Ok(Some(ratios))
 }
 
 proptest! {
@@ -471,27 +501,38 @@ proptest! {
 
     /// Energy, spin, `p_φ` (all four models) and vorticity (isotropic `J`)
     /// along RKMK4 trajectories (T = 3, h = 0.01 and 0.005) on S², H², T², S³, with
-    /// the elastic + axial potential (all four conserved) and random
-    /// anisotropic or isotropic `J`. Spin is conserved to round-off by
+    /// force-free or with the elastic + axial potential (all four conserved),
+    /// random anisotropic or isotropic `J`. Spin is conserved to round-off by
     /// construction (symmetric torque, additive hypermomentum; measured
-    /// ≤ 9.4e-16); the others converge at fourth order. Measured over 14
-    /// seeds (≈ 2600 trajectories): drift ratios per halving of h 10.8–34.5
-    /// (energy; pre-asymptotically the energy drift of RK4 can fall like h⁵),
-    /// 14.9–17.0 (`p_φ`), 14.3–32.4 (vorticity); worst drift at h/2 2.3e-8 of
-    /// the energy scale. Asserted: ratio in [10, 40] and drift < 1e-7·scale,
-    /// unless the drift is already below 1e-11·scale.
+    /// ≤ 9.4e-16); the others converge at fourth order. Measured over 10
+    /// seeds (≈ 1900 trajectories, the ratio counted where the drift at h/2
+    /// exceeds 1e-11 of the energy scale): drift ratios per halving of h
+    /// 12.5–23.5 (energy; pre-asymptotically the energy drift of RK4 can fall
+    /// faster than h⁴), 15.8–16.8 (`p_φ`), 15.6–17.5 (vorticity); worst drift
+    /// at h/2 2.3e-8 of the energy scale. Force-free bodies get gentler internal
+    /// velocities, and a trajectory whose collapse ratio grows tenfold is set
+    /// aside (measured: none; at most 4 of 16 allowed).
     #[test]
     fn invariants_converge_at_fourth_order(
         p in proptest::collection::vec(-1.0f64..1.0, 40),
         mass in 0.5f64..2.0,
         kappa in 0.2f64..1.0,
         iso in any::<bool>(),
+        free in any::<bool>(),
     ) {
+        // Force-free affine bodies flatten quickly (det(ρ₀ + tρ̇₀) = 0): draw
+        // gentler internal velocities for them (entries 4..20 feed ρ̇).
+        let mut p = p;
+        if free {
+            p[4..20].iter_mut().for_each(|v| *v *= 0.2);
+        }
         let j2 = inertia::<2>(&p[30..], iso);
         let j3 = inertia::<3>(&p[30..], iso);
         let u2 = Vector2::new(p[20], p[21]);
         let u3 = Vector3::new(p[20], p[21], p[22]);
-        let pot = Sum(Elastic { kappa }, axial(&p[23..]));
+        // free: V ≡ 0 (geodesic motion with spin–curvature coupling).
+        let pot = if free { Sum(Elastic { kappa: 0.0 }, Axial { a: 0.0, b: 0.0 }) } else { Sum(Elastic { kappa }, axial(&p[23..])) };
+        let mut skipped = 0usize;
         for kind in KINDS {
             let vort = iso;
             let cons = [true, true, true, vort];
@@ -499,15 +540,23 @@ proptest! {
             let (bs2, bh2, bs3) = (s2(), h2(), s3());
             let (gs2, gh2, gs3) = (g_of_s2(&bs2, &p[25..]), g_of_h2(&bh2, &p[25..]), g_of_s3(&bs3, &p[25..]));
             let r = with_model!(kind, bs2, mass, j2, pot, &gs2, &p, &u2, |m, y| { check_conservation(&format!("S2 {kind:?}"), &m, &y, 3.0, 0.01, cons, exact) });
-            prop_assert!(r.is_ok(), "{}", r.unwrap_err());
+            prop_assert!(r.is_ok(), "{}", r.as_ref().unwrap_err());
+            skipped += usize::from(r.unwrap().is_none());
             let r = with_model!(kind, bh2, mass, j2, pot, &gh2, &p, &u2, |m, y| { check_conservation(&format!("H2 {kind:?}"), &m, &y, 3.0, 0.01, cons, exact) });
-            prop_assert!(r.is_ok(), "{}", r.unwrap_err());
+            prop_assert!(r.is_ok(), "{}", r.as_ref().unwrap_err());
+            skipped += usize::from(r.unwrap().is_none());
             let r = with_model!(kind, bs3, mass, j3, pot, &gs3, &p, &u3, |m, y| { check_conservation(&format!("S3 {kind:?}"), &m, &y, 3.0, 0.01, cons, exact) });
-            prop_assert!(r.is_ok(), "{}", r.unwrap_err());
+            prop_assert!(r.is_ok(), "{}", r.as_ref().unwrap_err());
+            skipped += usize::from(r.unwrap().is_none());
             let (bt2, gt2) = (t2(), g_of_t2(&t2(), &p[25..]));
             let r = with_model!(kind, bt2, mass, j2, pot, &gt2, &p, &u2, |m, y| { check_conservation(&format!("T2 {kind:?}"), &m, &y, 3.0, 0.01, cons, exact) });
-            prop_assert!(r.is_ok(), "{}", r.unwrap_err());
+            prop_assert!(r.is_ok(), "{}", r.as_ref().unwrap_err());
+            skipped += usize::from(r.unwrap().is_none());
         }
+        // Only force-free affine or dilatational bodies may come near collapse
+        // (the elastic potential's 1/det barrier prevents it).
+        prop_assert!(skipped == 0 || free, "a body with the elastic potential came near collapse");
+        prop_assert!(skipped <= 4, "{skipped} of 16 free trajectories came near collapse");
     }
 }
 
@@ -1396,12 +1445,19 @@ where
 /// random states on S², H², T² (away from the chart poles), with an
 /// anisotropic `J` and the general potential (elastic + dipole, so that every
 /// force, torque and coupling is active), the ambient accelerations `Ẍ`, `ë`
-/// agree. Measured worst relative difference ≈ 1e-10 (the Richardson
-/// differences' error); a wrong sign of the spin–curvature force or of the
+/// agree, and so do the energy and — against the canonical momenta of the
+/// paper's two-polar coordinates `(x¹, φ, α, β, λ, μ)` — `p_φ` (Noether charge
+/// of the rotations about the axis, with its spin term), `p_α` (spin) and
+/// `p_β` (vorticity, `−(Σ̂ − Σ̂ᵀ)₁₂` with `Σ̂ = Jρ̇ᵀρ`). Measured worst relative
+/// difference 8e-13 (accelerations: Richardson differences) and ≤ 1e-14
+/// (energy, momenta); a wrong sign of the spin–curvature force or of the
 /// torque gives O(1).
 #[test]
 fn agrees_with_the_coordinate_form_of_the_paper() {
-    use framedyn::coords::{accelerations, ambient_acceleration, from_ambient, Affine2, GlEntries, HyperbolicChart, SphereChart, TorusChart};
+    use framedyn::coords::{
+        accelerations, ambient_acceleration, energy, from_ambient, momenta, Affine2, GlEntries, HyperbolicChart, SphereChart,
+        TorusChart, TwoPolar, TwoPolarAffine2,
+    };
     fn compare<B, C>(label: &str, b: B, chart: C, g: &B::Group, p: &[f64]) -> f64
     where
         B: FrameBundle<2, 3>,
@@ -1413,15 +1469,29 @@ fn agrees_with_the_coordinate_form_of_the_paper() {
         let m = AffineModel::new(b, body, pot).unwrap();
         let (rho, rd) = internal(Kind::Full, p, &SMatrix::identity());
         let y = m.state(g, &rho, &Vector2::new(p[20], p[21]), &rd).unwrap();
-        let lag = Affine2::affine(chart, GlEntries, &body, pot);
+        let lag = Affine2::affine(chart.clone(), GlEntries, &body, pot);
         let (q, qd) = from_ambient(&lag, &ambient_of(&m, &y)).unwrap();
+        // Energy and the canonical momenta of the two-polar coordinates
+        // q = (x¹, φ, α, β, λ, μ): p_φ (chart angle about the axis), p_α, p_β.
+        let polar = TwoPolarAffine2::affine(chart, TwoPolar, &body, pot);
+        let (q2, qd2) = from_ambient(&polar, &ambient_of(&m, &y)).unwrap();
+        let p2 = momenta(&polar, &q2, &qd2).unwrap();
+        let e = energy(&lag, &q, &qd).unwrap();
+        let pscale = 1.0 + p2.amax();
+        let merr = [
+            (m.energy(&y) - e).abs() / (1.0 + e.abs()),
+            (m.p_phi(&y) - p2[1]).abs() / pscale,
+            (m.p_alpha(&y) - p2[2]).abs() / pscale,
+            (m.p_beta(&y) - p2[3]).abs() / pscale,
+        ];
+        assert!(merr.iter().all(|e| *e < 1e-12), "{label}: energy, p_φ, p_α, p_β differ by {merr:?} ({p2:?})");
         let qdd = accelerations(&lag, &q, &qd).unwrap();
         let want = ambient_acceleration(&lag, &q, &qd, &qdd).unwrap();
         let (acc, facc) = ambient_acceleration_of(&m, &y);
         let scale = 1.0 + want.acceleration.amax() + want.frame_acceleration.amax();
         let err = (acc - want.acceleration).amax().max((facc - want.frame_acceleration).amax()) / scale;
         assert!(err < 1e-8, "{label}: ambient accelerations differ by {err:e} (scale {scale})");
-        err
+        merr.iter().fold(err, |a, b| a.max(*b))
     }
     let mut rng = 0x9E3779B97F4A7C15u64;
     let mut next = || {
