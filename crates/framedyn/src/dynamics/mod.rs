@@ -66,6 +66,8 @@ pub fn internal_gradient<const N: usize, const E: usize>(
     q.transpose() * grad.de
 }
 
+pub mod affine;
+pub mod constrained;
 pub mod gyroscope;
 pub mod gyroscope2;
 pub mod gyroscope3;
