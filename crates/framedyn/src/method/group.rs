@@ -32,6 +32,16 @@ pub trait GroupNumerics: LieGroup {
     /// the defining representation, and `|e|` is the rotation angle on SO(n)
     /// — so the reference magnitude is 1.
     fn tolerance_scale(&self) -> Self::Algebra;
+
+    /// True if every stored number of the element is finite (a cheap test,
+    /// run after every step: an overflow in `exp` or in the product is a
+    /// failure, not a state).
+    fn is_finite(&self) -> bool;
+}
+
+#[inline]
+fn all_finite<'a>(v: impl IntoIterator<Item = &'a f64>) -> bool {
+    v.into_iter().all(|x| x.is_finite())
 }
 
 /// The algebra element with every stored component equal to 1.
@@ -54,6 +64,10 @@ impl GroupNumerics for So2 {
     fn tolerance_scale(&self) -> Self::Algebra {
         ones()
     }
+    #[inline]
+    fn is_finite(&self) -> bool {
+        self.cos().is_finite() && self.sin().is_finite()
+    }
 }
 
 impl GroupNumerics for So3 {
@@ -65,6 +79,10 @@ impl GroupNumerics for So3 {
     #[inline]
     fn tolerance_scale(&self) -> Self::Algebra {
         ones()
+    }
+    #[inline]
+    fn is_finite(&self) -> bool {
+        all_finite(self.matrix().iter())
     }
 }
 
@@ -78,6 +96,10 @@ impl GroupNumerics for Su2 {
     fn tolerance_scale(&self) -> Self::Algebra {
         ones()
     }
+    #[inline]
+    fn is_finite(&self) -> bool {
+        all_finite(self.quaternion().iter())
+    }
 }
 
 impl GroupNumerics for So12 {
@@ -90,6 +112,10 @@ impl GroupNumerics for So12 {
     #[inline]
     fn tolerance_scale(&self) -> Self::Algebra {
         ones()
+    }
+    #[inline]
+    fn is_finite(&self) -> bool {
+        all_finite(self.matrix().iter())
     }
 }
 
@@ -109,6 +135,10 @@ impl GroupNumerics for So4 {
     fn tolerance_scale(&self) -> Self::Algebra {
         ones()
     }
+    #[inline]
+    fn is_finite(&self) -> bool {
+        all_finite(self.matrix().iter())
+    }
 }
 
 /// Frobenius norm of the skew part `(a − aᵀ)/2`.
@@ -127,6 +157,10 @@ impl<const N: usize> GroupNumerics for SoN<N> {
     fn tolerance_scale(&self) -> Self::Algebra {
         ones()
     }
+    #[inline]
+    fn is_finite(&self) -> bool {
+        all_finite(self.matrix().iter())
+    }
 }
 
 impl<const N: usize> GroupNumerics for Co<N> {
@@ -138,6 +172,10 @@ impl<const N: usize> GroupNumerics for Co<N> {
     #[inline]
     fn tolerance_scale(&self) -> Self::Algebra {
         ones()
+    }
+    #[inline]
+    fn is_finite(&self) -> bool {
+        self.ln_lambda().is_finite() && all_finite(self.rotation().matrix().iter())
     }
 }
 
@@ -152,6 +190,10 @@ impl<const N: usize> GroupNumerics for Gl<N> {
     fn tolerance_scale(&self) -> Self::Algebra {
         ones()
     }
+    #[inline]
+    fn is_finite(&self) -> bool {
+        all_finite(self.matrix().iter())
+    }
 }
 
 impl<const N: usize> GroupNumerics for Sl<N> {
@@ -163,6 +205,10 @@ impl<const N: usize> GroupNumerics for Sl<N> {
     #[inline]
     fn tolerance_scale(&self) -> Self::Algebra {
         ones()
+    }
+    #[inline]
+    fn is_finite(&self) -> bool {
+        all_finite(self.matrix().iter())
     }
 }
 
@@ -177,6 +223,10 @@ impl<const K: usize> GroupNumerics for Rn<K> {
     fn tolerance_scale(&self) -> Self::Algebra {
         self.0.abs()
     }
+    #[inline]
+    fn is_finite(&self) -> bool {
+        all_finite(self.0.iter())
+    }
 }
 
 impl<A: GroupNumerics, B: GroupNumerics> GroupNumerics for Product<A, B> {
@@ -188,5 +238,9 @@ impl<A: GroupNumerics, B: GroupNumerics> GroupNumerics for Product<A, B> {
     #[inline]
     fn tolerance_scale(&self) -> Self::Algebra {
         crate::lie::ProductAlgebra(self.0.tolerance_scale(), self.1.tolerance_scale())
+    }
+    #[inline]
+    fn is_finite(&self) -> bool {
+        self.0.is_finite() && self.1.is_finite()
     }
 }

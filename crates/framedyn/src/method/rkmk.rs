@@ -214,6 +214,23 @@ fn guard<G: GroupNumerics>(theta: &G::Algebra, limit: f64, t_eval: f64, done: St
     }
 }
 
+/// `h Σⱼ wⱼ kⱼ` over the non-zero weights (no multiplications by zero, no
+/// explicit zero element unless every weight vanishes).
+#[inline(always)]
+fn combine<A: AlgebraVector>(k: &[A], w: &[f64], h: f64) -> A {
+    let mut acc: Option<A> = None;
+    for (kj, &wj) in k.iter().zip(w) {
+        if wj != 0.0 {
+            let term = *kj * (h * wj);
+            acc = Some(match acc {
+                Some(a) => a + term,
+                None => term,
+            });
+        }
+    }
+    acc.unwrap_or_else(A::zero)
+}
+
 #[inline(always)]
 fn eval<Sys: System>(sys: &Sys, t: f64, y: &Sys::State) -> Result<Alg<Sys>, StepFault> {
     let f = sys.vector_field(t, y);
@@ -258,24 +275,19 @@ where
         let mut cost = StepCost::default();
 
         // Stage 1: θ₁ = 0, K₁ = f(t₀, y₀).
-        let mut k = [Alg::<Sys>::zero(); S];
-        k[0] = match req.f_start {
+        let k0 = match req.f_start {
             Some(f) => f,
             None => {
                 cost.rhs += 1;
                 eval(sys, t, y0)?
             }
         };
+        let mut k = [k0; S];
         let mut last_stage_state: Option<G<Sys>> = None;
         let mut fsal_raw: Option<Alg<Sys>> = None;
         for i in 1..n {
-            let mut th = Alg::<Sys>::zero();
-            for j in 0..i {
-                let aij = tab.a[i][j];
-                if aij != 0.0 {
-                    th = th + k[j] * (h * aij);
-                }
-            }
+            // θᵢ = h Σⱼ aᵢⱼ Kⱼ.
+            let mut th = combine(&k[..i], &tab.a[i][..i], h);
             if let Correction::Brackets(form) = corr {
                 for (stage, term) in form.stages {
                     if *stage == i {
@@ -299,13 +311,7 @@ where
         }
 
         // Θ = h Σ bᵢ Kᵢ (+ output commutators).
-        let mut theta = Alg::<Sys>::zero();
-        for (i, ki) in k.iter().enumerate().take(n) {
-            let bi = tab.b[i];
-            if bi != 0.0 {
-                theta = theta + *ki * (h * bi);
-            }
-        }
+        let mut theta = combine(&k[..n], &tab.b[..n], h);
         if let Correction::Brackets(form) = corr {
             for term in form.output {
                 cost.brackets += 1;
@@ -324,20 +330,17 @@ where
             }
         };
         let y1 = unnormalised.renormalize();
-        if !y1.constraint_defect().is_finite() {
+        if !y1.is_finite() {
             return Err(StepFault::NonFinite { source: NonFiniteSource::State, t_eval: t + h });
         }
 
         let error = match (&tab.embedded, req.error) {
             (Some(e), true) => {
-                let mut err = Alg::<Sys>::zero();
-                for (i, ki) in k.iter().enumerate() {
-                    let w = tab.b[i] - e.b_hat[i];
-                    if w != 0.0 {
-                        err = err + *ki * (h * w);
-                    }
+                let mut w = [0.0; S];
+                for (i, wi) in w.iter_mut().enumerate() {
+                    *wi = tab.b[i] - e.b_hat[i];
                 }
-                Some(err)
+                Some(combine(&k, &w, h))
             }
             _ => None,
         };
@@ -360,12 +363,9 @@ where
             let mut coeffs = [Alg::<Sys>::zero(); DENSE_DEGREE];
             let mut degree = 0;
             for (m, c) in coeffs.iter_mut().enumerate() {
-                for (i, ki) in k.iter().enumerate() {
-                    let w = dw.coeffs[m][i];
-                    if w != 0.0 {
-                        *c = *c + *ki * (h * w);
-                        degree = m + 1;
-                    }
+                if dw.coeffs[m].iter().any(|&w| w != 0.0) {
+                    *c = combine(&k, &dw.coeffs[m], h);
+                    degree = m + 1;
                 }
             }
             Some(DensePoly { coeffs, degree })

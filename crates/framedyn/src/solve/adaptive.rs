@@ -133,6 +133,7 @@ where
                 // Too large for dexp⁻¹: a rejection, not a failure.
                 run.sol.stats.add_cost(&cost);
                 run.sol.stats.rejected += 1;
+                run.sol.stats.rejected_radius += 1;
                 h *= (ctl.safety * limit / radius).clamp(ctl.fac_min, ctl.safety);
                 rejected_last = true;
                 continue;

@@ -28,9 +28,9 @@ pub enum SolveError {
         reason: String,
     },
     /// The initial state is not a finite element of its group.
-    #[error("initial state is not valid: constraint defect {defect}")]
+    #[error("initial state is not a finite group element (constraint defect {defect})")]
     InvalidInitialState {
-        /// [`LieGroup::constraint_defect`] of the state (NaN or ∞).
+        /// [`LieGroup::constraint_defect`] of the state.
         defect: f64,
     },
     /// NaN or ±∞ in the vector field, the state, the step increment or an

@@ -33,7 +33,7 @@ mod stepper;
 pub use error::{Failure, SolveError};
 pub use event::{Direction, Event, EventRecord};
 pub use options::{Adaptive, Controller, ObserverFn, Options, Save, StepSize, Tol, DEFAULT_MAX_STEPS};
-pub use problem::Problem;
+pub use problem::{state_is_finite, Problem};
 pub use solution::{DenseSegment, InvariantSeries, Solution, StopReason, Stats};
 pub use stepper::Stepper;
 

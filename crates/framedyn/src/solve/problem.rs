@@ -2,13 +2,14 @@
 
 use super::SolveError;
 use crate::dynamics::System;
-use crate::lie::LieGroup;
+use crate::lie::AlgebraVector;
+use crate::method::GroupNumerics;
 
 /// `ẏ = y·f(t, y)`, `y(t₀) = y₀`, on `[t₀, t_end]` (or `[t_end, t₀]`: the
 /// integration runs backwards when `t_end < t₀`).
 ///
 /// Validated on construction: `t₀`, `t_end` finite, `t_end ≠ t₀`, and `y₀`
-/// a finite group element (finite [`LieGroup::constraint_defect`]).
+/// a finite group element ([`state_is_finite`]).
 #[derive(Debug, Clone)]
 pub struct Problem<S: System> {
     system: S,
@@ -27,16 +28,27 @@ fn check_span(t0: f64, t_end: f64) -> Result<(), SolveError> {
     Ok(())
 }
 
-pub(crate) fn check_state<G: LieGroup>(y: &G) -> Result<(), SolveError> {
-    let defect = y.constraint_defect();
-    if defect.is_finite() {
+/// True if `y` is a finite group element: finite
+/// [`LieGroup::constraint_defect`](crate::lie::LieGroup::constraint_defect) (matrix factors) and finite
+/// [`GroupNumerics::tolerance_scale`] (the coordinates of additive factors,
+/// whose constraint defect is identically 0).
+#[inline]
+pub fn state_is_finite<G: GroupNumerics>(y: &G) -> bool {
+    y.constraint_defect().is_finite() && y.tolerance_scale().is_finite()
+}
+
+pub(crate) fn check_state<G: GroupNumerics>(y: &G) -> Result<(), SolveError> {
+    if state_is_finite(y) {
         Ok(())
     } else {
-        Err(SolveError::InvalidInitialState { defect })
+        Err(SolveError::InvalidInitialState { defect: y.constraint_defect() })
     }
 }
 
-impl<S: System> Problem<S> {
+impl<S: System> Problem<S>
+where
+    S::State: GroupNumerics,
+{
     /// The problem `ẏ = y·f(t, y)` of `system` from `y0` over `span = (t₀, t_end)`.
     pub fn new(system: S, y0: S::State, span: (f64, f64)) -> Result<Self, SolveError> {
         check_span(span.0, span.1)?;

@@ -28,6 +28,9 @@ pub struct Stats {
     /// Rejected steps (error test failed, or the `dexp⁻¹` radius guard asked
     /// for a smaller step).
     pub rejected: usize,
+    /// Of the rejected steps, those abandoned by the `dexp⁻¹` radius guard
+    /// (their partial work is counted in the other fields).
+    pub rejected_radius: usize,
     /// Evaluations of the vector field (steps, first-step selection).
     pub rhs_evals: usize,
     /// Group exponentials in steps and dense-output samples.
@@ -51,6 +54,7 @@ impl Default for Stats {
         Stats {
             accepted: 0,
             rejected: 0,
+            rejected_radius: 0,
             rhs_evals: 0,
             exps: 0,
             brackets: 0,
