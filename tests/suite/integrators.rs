@@ -421,22 +421,34 @@ fn adaptive_dopri5_meets_its_tolerance() {
     }
 }
 
+fn check_proportional<S>(label: &str, sys: &S, y0: S::State)
+where
+    S: System + Clone,
+    S::State: GroupNumerics,
+{
+    let e = adaptive_errors(label, sys, y0, 10.0, 5..=10);
+    let (lo, hi) = e.iter().fold((f64::INFINITY, 0.0f64), |a, x| (a.0.min(x.1), a.1.max(x.1)));
+    eprintln!("{label}: global error / tol ∈ [{lo:.2}, {hi:.2}]");
+    assert!(hi <= 4.0 * lo, "{label}: not proportional: {e:?}");
+}
+
 /// Measures tolerance proportionality: global error / tol at T = 10 varies by
-/// at most a factor 4 over tol = 1e-5 … 1e-10 on the Lagrange top (prints the
-/// constant: the integrable top shears its nutation phase, so its constant
-/// is larger than the rigid body's) and on the rigid body.
+/// at most a factor 4 over tol = 1e-5 … 1e-10, on the Lagrange top, the rigid
+/// body and the H² oscillator. The Lagrange top's constant (≈ 23–26) exceeds
+/// the 10 × tol target; measured there: the propagated solution's local
+/// error is 0.02–0.2 × the estimate (as on the other problems), the flow
+/// amplifies initial perturbations ≈ 12× over T = 10 (the rigid body: 13×),
+/// but it takes 3× more steps (193 vs 62 at tol 1e-8) — the excess is
+/// accumulation, not a defect of the estimate (see
+/// `embedded_error_estimate_is_asymptotically_exact`).
 #[test]
 fn adaptive_error_is_proportional_to_the_tolerance() {
-    for (label, (sys, y0)) in [("Lagrange top", lagrange_top())] {
-        let e = adaptive_errors(label, &sys, y0, 10.0, 5..=10);
-        let (lo, hi) = e.iter().fold((f64::INFINITY, 0.0f64), |a, x| (a.0.min(x.1), a.1.max(x.1)));
-        eprintln!("{label}: global error / tol ∈ [{lo:.2}, {hi:.2}]");
-        assert!(hi <= 4.0 * lo, "{label}: not proportional: {e:?}");
-    }
+    let (sys, y0) = lagrange_top();
+    check_proportional("Lagrange top", &sys, y0);
     let (sys, y0) = rigid_body();
-    let e = adaptive_errors("rigid body", &sys, y0, 10.0, 5..=10);
-    let (lo, hi) = e.iter().fold((f64::INFINITY, 0.0f64), |a, x| (a.0.min(x.1), a.1.max(x.1)));
-    assert!(hi <= 4.0 * lo, "rigid body: not proportional: {e:?}");
+    check_proportional("rigid body", &sys, y0);
+    let (sys, y0) = hyperbolic();
+    check_proportional("H2 oscillator", &sys, y0);
 }
 
 /// Measures that the embedded estimate `Θ − Θ̂` is the local error of the

@@ -2,7 +2,7 @@
 //! explicit [`Tableau`].
 //!
 //! For `ẏ = y·f(t, y)` and a tableau `(A, b, c)` with `S` stages, one step from
-//! `(t₀, y₀)` reads [MK98], [MK99], [IMNZ00]:
+//! `(t₀, y₀)` reads \[MK98\], \[MK99\], \[IMNZ00\]:
 //!
 //! ```text
 //! θᵢ = h Σⱼ aᵢⱼ Kⱼ,                 Fᵢ = f(t₀ + cᵢh, y₀·exp(θᵢ)),
@@ -11,7 +11,7 @@
 //!
 //! i.e. the classical method applied to `θ̇ = dexp⁻¹_{−θ} f(t, y₀·exp θ)`.
 //! With `dexp⁻¹_{−θ} v = v + ½[θ, v] + (1/12)[θ, [θ, v]] − …` truncated after
-//! `ad^{q−2}` the method keeps the classical order `q` [MK99]: the dropped
+//! `ad^{q−2}` the method keeps the classical order `q` \[MK99\]: the dropped
 //! `ad^k_θ f` terms are `O(h^{k+1})` at stage level and their leading parts
 //! `ad^k_{hf₀} f₀` vanish. Truncating one term earlier lowers the order (the
 //! test suite measures this). The new state is renormalised onto the group
@@ -22,9 +22,9 @@
 //! tableau is `'static` data, and no trait objects are involved: a step
 //! allocates nothing.
 //!
-//! [MK98] H. Munthe-Kaas, *Runge–Kutta methods on Lie groups*, BIT 38 (1998)
-//! 92–111. [MK99] H. Munthe-Kaas, *High order Runge–Kutta methods on
-//! manifolds*, Appl. Numer. Math. 29 (1999) 115–127. [IMNZ00] A. Iserles,
+//! \[MK98\] H. Munthe-Kaas, *Runge–Kutta methods on Lie groups*, BIT 38 (1998)
+//! 92–111. \[MK99\] H. Munthe-Kaas, *High order Runge–Kutta methods on
+//! manifolds*, Appl. Numer. Math. 29 (1999) 115–127. \[IMNZ00\] A. Iserles,
 //! H. Z. Munthe-Kaas, S. P. Nørsett, A. Zanna, *Lie-group methods*, Acta
 //! Numerica 9 (2000) 215–365.
 

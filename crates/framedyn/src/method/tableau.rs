@@ -14,25 +14,25 @@
 //! embedded weights and the continuous extensions.
 //!
 //! References:
-//! - [Heun1900] K. Heun, *Neue Methode zur approximativen Integration der
+//! - \[Heun1900\] K. Heun, *Neue Methode zur approximativen Integration der
 //!   Differentialgleichungen einer unabhängigen Veränderlichen*, Z. Math.
 //!   Phys. 45 (1900) 23–38.
-//! - [Kutta1901] W. Kutta, *Beitrag zur näherungsweisen Integration totaler
+//! - \[Kutta1901\] W. Kutta, *Beitrag zur näherungsweisen Integration totaler
 //!   Differentialgleichungen*, Z. Math. Phys. 46 (1901) 435–453.
-//! - [DP80] J. R. Dormand, P. J. Prince, *A family of embedded Runge–Kutta
+//! - \[DP80\] J. R. Dormand, P. J. Prince, *A family of embedded Runge–Kutta
 //!   formulae*, J. Comput. Appl. Math. 6 (1980) 19–26.
-//! - [Sha86] L. F. Shampine, *Some practical Runge–Kutta formulas*, Math.
+//! - \[Sha86\] L. F. Shampine, *Some practical Runge–Kutta formulas*, Math.
 //!   Comp. 46 (1986) 135–150 (the dense output of DOPRI5).
-//! - [HNW93] E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary
+//! - \[HNW93\] E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary
 //!   Differential Equations I*, 2nd ed., Springer 1993: Table II.1.1 (RK4),
 //!   Table II.5.2 (DOPRI5), §II.6 and the code DOPRI5 (dense output
 //!   coefficients `d`), §II.4 (step-size control).
-//! - [But64] J. C. Butcher, *On Runge–Kutta processes of high order*, J.
+//! - \[But64\] J. C. Butcher, *On Runge–Kutta processes of high order*, J.
 //!   Austral. Math. Soc. 4 (1964) 179–194; tableau as in J. C. Butcher,
 //!   *Numerical Methods for Ordinary Differential Equations*, Wiley 2008, §324.
-//! - [MK99] H. Munthe-Kaas, *High order Runge–Kutta methods on manifolds*,
+//! - \[MK99\] H. Munthe-Kaas, *High order Runge–Kutta methods on manifolds*,
 //!   Appl. Numer. Math. 29 (1999) 115–127.
-//! - [IMNZ00] A. Iserles, H. Z. Munthe-Kaas, S. P. Nørsett, A. Zanna,
+//! - \[IMNZ00\] A. Iserles, H. Z. Munthe-Kaas, S. P. Nørsett, A. Zanna,
 //!   *Lie-group methods*, Acta Numerica 9 (2000) 215–365.
 
 /// Highest power of `σ` in a continuous extension `bᵢ(σ)` (and in the
@@ -95,7 +95,7 @@ pub struct BracketTerm {
     pub coeff: f64,
 }
 
-/// The commutator form of an RKMK method [MK99], [IMNZ00]: the stages use
+/// The commutator form of an RKMK method \[MK99\], \[IMNZ00\]: the stages use
 /// the raw vector field, `Kᵢ = f(t + cᵢh, y₀·exp(θᵢ))` without `dexp⁻¹`, and
 /// the corrections `dexp⁻¹` would make are replaced, to the order of the
 /// method, by a few commutators of the `Kⱼ`:
@@ -157,7 +157,7 @@ impl<const S: usize> Tableau<S> {
 /// Lie–Euler, order 1: `y₁ = y₀·exp(h f(t₀, y₀))`.
 pub const LIE_EULER: Tableau<1> = Tableau {
     name: "Lie-Euler",
-    source: "explicit Euler; Lie-group form [IMNZ00]",
+    source: "explicit Euler; Lie-group form IMNZ00",
     a: [[0.0]],
     b: [1.0],
     c: [0.0],
@@ -167,7 +167,7 @@ pub const LIE_EULER: Tableau<1> = Tableau {
     brackets: None,
 };
 
-/// Heun's second-order method (explicit trapezoidal rule) [Heun1900],
+/// Heun's second-order method (explicit trapezoidal rule) \[Heun1900\],
 /// `c = (0, 1)`, `a₂₁ = 1`, `b = (½, ½)`.
 pub const HEUN: Tableau<2> = Tableau {
     name: "Heun",
@@ -181,7 +181,7 @@ pub const HEUN: Tableau<2> = Tableau {
     brackets: None,
 };
 
-/// Kutta's third-order method [Kutta1901],
+/// Kutta's third-order method \[Kutta1901\],
 /// `c = (0, ½, 1)`, `a₂₁ = ½`, `a₃₁ = −1`, `a₃₂ = 2`, `b = (1/6, 2/3, 1/6)`.
 pub const KUTTA3: Tableau<3> = Tableau {
     name: "Kutta3",
@@ -195,11 +195,11 @@ pub const KUTTA3: Tableau<3> = Tableau {
     brackets: None,
 };
 
-/// The commutator form of classical RK4 with two commutators [MK99],
-/// [IMNZ00], written for `ẏ = y·f`, `y = y₀·exp(θ)` (left
+/// The commutator form of classical RK4 with two commutators \[MK99\],
+/// \[IMNZ00\], written for `ẏ = y·f`, `y = y₀·exp(θ)` (left
 /// trivialisation, in which `dexp⁻¹_{−θ} = I + ½ad_θ + …`, so the signs of the
 /// commutators are opposite to the right-trivialised form `ẏ = A(y)·y`
-/// printed in [IMNZ00]):
+/// printed in \[IMNZ00\]):
 /// `θ₃ = (h/2)K₂ + (h²/8)[K₁, K₂]`, `Θ = (h/6)(K₁ + 2K₂ + 2K₃ + K₄) + (h²/12)[K₁, K₄]`.
 pub const RK4_BRACKETS: BracketForm = BracketForm {
     stages: &[(2, BracketTerm { left: 0, right: 1, coeff: 1.0 / 8.0 })],
@@ -207,7 +207,7 @@ pub const RK4_BRACKETS: BracketForm = BracketForm {
     source: "Munthe-Kaas (1999); IMNZ00 (RKMK methods), signs for the left-trivialised equation",
 };
 
-/// The classical fourth-order method of Kutta [Kutta1901], HNW93 Table II.1.1,
+/// The classical fourth-order method of Kutta \[Kutta1901\], HNW93 Table II.1.1,
 /// with the two-commutator Lie-group form [`RK4_BRACKETS`].
 pub const RK4: Tableau<4> = Tableau {
     name: "RK4",
@@ -223,8 +223,8 @@ pub const RK4: Tableau<4> = Tableau {
 
 const DP_B: [f64; 7] = [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0, 0.0];
 
-/// The coefficients `d` of Shampine's dense output of DOPRI5 [Sha86], as in
-/// the code DOPRI5 of [HNW93].
+/// The coefficients `d` of Shampine's dense output of DOPRI5 \[Sha86\], as in
+/// the code DOPRI5 of \[HNW93\].
 const DP_D: [f64; 7] = [
     -12715105075.0 / 11282082432.0,
     0.0,
@@ -255,9 +255,9 @@ const fn dopri5_dense() -> [[f64; 7]; DENSE_DEGREE] {
     w
 }
 
-/// Dormand–Prince 5(4) [DP80], HNW93 Table II.5.2: 7 stages, FSAL, order 5
+/// Dormand–Prince 5(4) \[DP80\], HNW93 Table II.5.2: 7 stages, FSAL, order 5
 /// propagated (local extrapolation), embedded order 4, and Shampine's
-/// continuous extension of order 4 [Sha86].
+/// continuous extension of order 4 \[Sha86\].
 pub const DOPRI5: Tableau<7> = Tableau {
     name: "DOPRI5",
     source: "Dormand & Prince (1980); HNW93 Table II.5.2; dense output: Shampine (1986), code DOPRI5",
@@ -289,7 +289,7 @@ pub const DOPRI5: Tableau<7> = Tableau {
     brackets: None,
 };
 
-/// Butcher's seven-stage method of order 6 [But64],
+/// Butcher's seven-stage method of order 6 \[But64\],
 /// `c = (0, ⅓, ⅔, ⅓, ½, ½, 1)`, `b = (11/120, 0, 27/40, 27/40, −4/15, −4/15, 11/120)`.
 pub const BUTCHER6: Tableau<7> = Tableau {
     name: "Butcher6",

@@ -1,5 +1,5 @@
 //! Rooted trees and the Runge–Kutta order conditions, for checking tableaux
-//! numerically ([HNW93] §II.2, Butcher's theory).
+//! numerically (\[HNW93\] §II.2, Butcher's theory).
 //!
 //! A method `(A, b, c)` has order `p` iff `Σᵢ bᵢ Φᵢ(τ) = 1/γ(τ)` for every
 //! rooted tree `τ` with at most `p` vertices, where the stage weights are
@@ -7,7 +7,7 @@
 //! `γ(•) = 1`, `γ([τ₁, …, τₘ]) = |τ| Πₖ γ(τₖ)`. A continuous extension
 //! `bᵢ(σ)` has order `q` iff `Σᵢ bᵢ(σ) Φᵢ(τ) = σ^{|τ|}/γ(τ)` for `|τ| ≤ q`.
 //!
-//! [HNW93] E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary
+//! \[HNW93\] E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary
 //! Differential Equations I*, 2nd ed., Springer 1993, §II.2, §II.6.
 
 use std::collections::BTreeSet;

@@ -173,7 +173,7 @@ where
     }
 }
 
-/// First step after [HNW93] §II.4 ("Starting step size"), in the algebra:
+/// First step after \[HNW93\] §II.4 ("Starting step size"), in the algebra:
 /// `d₀ = ‖s(y₀)‖`, `d₁ = ‖f₀‖` in the scaled norm; `h = 0.01·d₀/d₁`; one
 /// Lie–Euler step `y₁ = y₀·exp(h f₀)` gives `d₂ = ‖dexp⁻¹_{−hf₀}f(t₀+h, y₁) − f₀‖/h`;
 /// `h₁ = (0.01/max(d₁, d₂))^{1/(q+1)}`; the result is `min(100h, h₁, h_max)`,

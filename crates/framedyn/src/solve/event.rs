@@ -3,13 +3,13 @@
 //! After every accepted step the driver evaluates `g` at the new state and
 //! compares its sign with the last non-zero sign seen. A change (or an exact
 //! zero at the step's end) is a crossing; it is located on the step's dense
-//! output `y(t) = y₀·exp(θ(σ))` by Brent's method [Bre73] to the time
+//! output `y(t) = y₀·exp(θ(σ))` by Brent's method \[Bre73\] to the time
 //! tolerance of the options, so the located time is as accurate as the dense
 //! output. Two sign changes within one step cancel and are not seen (limit
 //! the step size to resolve closely spaced zeros). A zero at `t₀` is not
 //! reported.
 //!
-//! [Bre73] R. P. Brent, *Algorithms for Minimization without Derivatives*,
+//! \[Bre73\] R. P. Brent, *Algorithms for Minimization without Derivatives*,
 //! Prentice-Hall 1973, ch. 4 (the algorithm `zeroin`).
 
 use std::fmt;

@@ -34,7 +34,7 @@ impl From<f64> for Tol {
     }
 }
 
-/// Step-size controller ([HNW93] §II.4; PI form after Gustafsson, as in the
+/// Step-size controller (\[HNW93\] §II.4; PI form after Gustafsson, as in the
 /// code DOPRI5).
 ///
 /// With the error norm `err` of a step (accept iff `err ≤ 1`), `k = 1/(q+1)`,
@@ -46,7 +46,7 @@ impl From<f64> for Tol {
 ///
 /// `β = 0` is the classical (integral, I) controller `h·(safety/err)^{1/(q+1)}`.
 ///
-/// [HNW93] E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary
+/// \[HNW93\] E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary
 /// Differential Equations I*, 2nd ed., Springer 1993.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Controller {
@@ -106,7 +106,7 @@ pub struct Adaptive {
     pub rtol: Tol,
     /// Absolute tolerance(s), `≥ 0`; `atolᵢ + rtolᵢ > 0` for every component.
     pub atol: Tol,
-    /// First step `|h₀|`; `None` selects it as in [HNW93] §II.4 (with an
+    /// First step `|h₀|`; `None` selects it as in \[HNW93\] §II.4 (with an
     /// explicit Lie–Euler trial step, and `|h₀|·ρ(ad f₀)` at most half the
     /// radius guard).
     pub h0: Option<f64>,
