@@ -7,6 +7,7 @@ mod manifold_laws;
 
 mod hyperbolic;
 mod matrix_groups;
+mod potentials;
 mod sphere;
 mod sphere3;
 mod torus;

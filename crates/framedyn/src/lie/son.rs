@@ -27,17 +27,28 @@ pub const SO_TOLERANCE: f64 = 1e-10;
 ///   usual hat map; the closed-form `So3` type uses the hat map.) Functions
 ///   taking an algebra element use its skew part `(ω − ωᵀ)/2`.
 /// - `exp`: Padé scaling and squaring (`r_m(ω)` is orthogonal in exact
-///   arithmetic since `q_m(ω) = p_m(ω)ᵀ`), then one polar (Björck–Bowie) step
-///   removing the round-off drift of the squarings.
+///   arithmetic since `q_m(ω) = p_m(ω)ᵀ`), then one polar (Björck–Bowie)
+///   step removing the round-off drift of the squarings: orthogonal to a few
+///   ε for any `ω`.
 /// - `log`: principal logarithm (all rotation angles in [0, π)), from the
-///   matrix logarithm of [`Gl`](super::Gl) projected onto so(n);
-///   [`Error::LogUndefined`] if some angle is π (eigenvalue −1).
+///   matrix logarithm of [`Gl`](super::Gl) projected onto so(n) (which drops
+///   the part of the round-off that leaves SO(n), amplified by θ/sin θ);
+///   [`Error::LogUndefined`] if some angle is π, or within 8ε of it (the f64
+///   `exp(πJ)` included). Measured on correctly rounded rotations by
+///   π − δ, δ down to 1e-6: ≤ 2.6ε (SO(2), SO(3)); for SO(4) with two angles
+///   near π the error follows the condition number `φ/(2 sin(φ/2))`,
+///   `φ = θ₁ + θ₂ → 2π`, of dexp⁻¹ (≤ 0.26ε times it).
 /// - `dexp`: exact scaling and doubling with orthogonal `exp(ω/2^k)`;
 ///   `dexp⁻¹`: Bernoulli series for `2‖ω‖_F ≤ 1`, else an exact solve in the
 ///   `n(n−1)/2`-dimensional basis, valid while no two rotation angles
 ///   `θ_i + θ_j` reach 2π (in particular for every `ω` in the domain of `log`).
-/// - `renormalize`: the polar factor (nearest orthogonal matrix);
-///   `constraint_defect = max(max|RᵀR − I|, |det R − 1|)`.
+/// - `renormalize`: the polar factor (nearest orthogonal matrix in the
+///   Frobenius norm): Newton–Schulz/Björck–Bowie steps `R ← R − R(RᵀR − I)/2`
+///   from near-orthogonal input (one step, two products, after a
+///   composition), scaled Newton `R ← (γR + R⁻ᵀ/γ)/2` from far away, SVD with
+///   the orientation fixed for `det ≤ 0` (Å. Björck, C. Bowie, SIAM J.
+///   Numer. Anal. 8 (1971) 358–364; N. J. Higham, *Functions of Matrices*,
+///   §8.6, §8.9). `constraint_defect = max(max|RᵀR − I|, |det R − 1|)`.
 ///
 /// Matrix representation: `R` itself.
 #[derive(Debug, Clone, Copy, PartialEq)]

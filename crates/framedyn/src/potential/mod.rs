@@ -33,6 +33,24 @@
 //! assert_eq!(grad.dx, SVector::from([0.0, 0.0, 0.5]));
 //! ```
 
+pub mod bertrand;
+pub mod centre;
+pub mod combinators;
+pub mod elastic;
+pub mod integrable;
+pub mod invariants;
+pub mod separable;
+pub mod user;
+
+pub use bertrand::*;
+pub use centre::*;
+pub use combinators::*;
+pub use elastic::*;
+pub use integrable::*;
+pub use invariants::*;
+pub use separable::*;
+pub use user::*;
+
 use nalgebra::{SMatrix, SVector};
 use num_dual::{DualNum, DualSVec64};
 use std::fmt::Debug;

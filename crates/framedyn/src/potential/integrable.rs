@@ -1,0 +1,87 @@
+//! The family `α̂ cos²(r/R) + β̂ cos(r/R)` compatible with the separation of
+//! the S² gyroscope (paper §5.1, after (a109)), and its H² analogue.
+
+use nalgebra::{SMatrix, SVector};
+
+use super::centre::Centre;
+use super::{Gradient, Potential, Scalar};
+use crate::{Error, Result};
+
+/// `Ok(value)` if `value` is finite, else [`Error::InvalidParameter`].
+pub(crate) fn finite_param(field: &'static str, value: f64) -> Result<f64> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(Error::InvalidParameter { field, value, allowed: "finite" })
+    }
+}
+
+/// `V = α̂ cos²(r/R) + β̂ cos(r/R)` on S² (and S³), `V = α̂ cosh²(r/R) +
+/// β̂ cosh(r/R)` on H² (position only), `r` the geodesic distance from the
+/// [`Centre`] (default: the pole of the paper's chart). `α̂ = 0` gives the
+/// potential `β̂ cos(r/R)` of a uniform field (SPEC §5's test problem).
+///
+/// The paper (§5.1, text after (a109)) derives it as the family for which
+/// the Hamilton–Jacobi equation of the S² gyroscope with cyclic `φ, ψ` stays
+/// separable in `(r, φ, ψ)`. Its further claims — elementary integrals and
+/// total degeneracy — are wrong (SPEC §8, lines 3725–3746): the radial
+/// integral is elliptic and the degeneracy is lost (rotation numbers vary
+/// with the energy).
+///
+/// **Ambient form.** `cos(r/R) = ⟨x, c⟩/R²` (S², S³) and `cosh(r/R) =
+/// −⟨x, c⟩_η/R²` (H²): linear in `x`, so `V` is a quadratic polynomial in `x`,
+/// smooth everywhere, with no singular set.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CosineFamily<const E: usize> {
+    alpha: f64,
+    beta: f64,
+    centre: Centre<E>,
+}
+
+impl<const E: usize> CosineFamily<E> {
+    /// `α̂ cos²(r/R) + β̂ cos(r/R)` about `centre`. Fails with
+    /// [`Error::InvalidParameter`] (field `"alpha_hat"` or `"beta_hat"`)
+    /// unless both are finite (any sign).
+    pub fn new(alpha_hat: f64, beta_hat: f64, centre: Centre<E>) -> Result<Self> {
+        Ok(CosineFamily {
+            alpha: finite_param("alpha_hat", alpha_hat)?,
+            beta: finite_param("beta_hat", beta_hat)?,
+            centre,
+        })
+    }
+
+    /// `α̂`.
+    pub fn alpha_hat(&self) -> f64 {
+        self.alpha
+    }
+
+    /// `β̂`.
+    pub fn beta_hat(&self) -> f64 {
+        self.beta
+    }
+
+    /// The centre.
+    pub fn centre(&self) -> &Centre<E> {
+        &self.centre
+    }
+}
+
+impl<const N: usize, const E: usize> Potential<N, E> for CosineFamily<E> {
+    fn uses_frame(&self) -> bool {
+        false
+    }
+
+    fn value<D: Scalar>(&self, x: &SVector<D, E>, _e: &SMatrix<D, E, N>, _metric: &SMatrix<f64, E, E>) -> D {
+        let c = self.centre.cos_r(x);
+        c * (c * self.alpha + self.beta)
+    }
+
+    /// Closed form: `∂V/∂x = (2α̂ cos + β̂)/R · M₀`, `M₀` the axial row.
+    fn gradient(&self, x: &SVector<f64, E>, _e: &SMatrix<f64, E, N>, _m: &SMatrix<f64, E, E>) -> Gradient<N, E> {
+        let c = self.centre.cos_r(x);
+        let value = c * (c * self.alpha + self.beta);
+        let mut w = SVector::<f64, E>::zeros();
+        w[0] = (2.0 * self.alpha * c + self.beta) / self.centre.radius();
+        Gradient { value, dx: self.centre.pull_back(&w), de: SMatrix::zeros() }
+    }
+}
