@@ -203,3 +203,20 @@ pub fn symmetric_top_exact(i1: f64, i3: f64, y0: &Body, t: f64) -> Body {
     let r = y0.0.compose(&So3::exp(&(pi0 * (t / i1)))).compose(&So3::exp(&(e3 * (lam * t))));
     Product(r, Rn(pi))
 }
+
+/// `ṗ = 10³⁰⁸` on ℝ: the state overflows after one step from 1.5·10³⁰⁸.
+#[derive(Debug, Clone)]
+pub struct Overflow;
+
+impl System for Overflow {
+    type State = Rn<1>;
+    fn vector_field(&self, _t: f64, _y: &Rn<1>) -> nalgebra::Vector1<f64> {
+        nalgebra::Vector1::new(1e308)
+    }
+    fn energy(&self, _y: &Rn<1>) -> f64 {
+        0.0
+    }
+    fn defect(&self, _y: &Rn<1>) -> f64 {
+        0.0
+    }
+}
