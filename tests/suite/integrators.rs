@@ -1074,3 +1074,51 @@ fn fixed_step_path_does_not_allocate_per_step() {
     eprintln!("allocations of a fixed-step solve: {small} (100 steps), {large} (10000 steps)");
     assert_eq!(small, large);
 }
+
+/// Measures that on the additive group ℝ (brackets vanish, exp = id) the
+/// engine is exactly the classical Runge–Kutta method — the path of the
+/// coordinate baselines: one step of ẏ = λy with z = hλ ∈ {−0.7, 0.3, 1.1}
+/// equals the stability polynomial R(z) to 4ε: 1 + z (Euler), + z²/2 (Heun),
+/// + z³/6 (Kutta 3), + z⁴/24 (RK4), + z⁵/120 + z⁶/600 (DOPRI5), and
+/// bᵀ(I − zA)⁻¹𝟙 expanded for Butcher 6 (Σ_{k≤6} z^k/k! + bᵀA⁶𝟙 z⁷).
+#[test]
+fn on_rn_the_engine_is_classical_runge_kutta() {
+    let exp_poly = |z: f64, k: usize| (0..=k).map(|j| z.powi(j as i32) / (1..=j).map(|i| i as f64).product::<f64>()).sum::<f64>();
+    let t = &tableau::BUTCHER6;
+    let mut v = [1.0; 7];
+    for _ in 0..6 {
+        let mut w = [0.0; 7];
+        for (i, wi) in w.iter_mut().enumerate() {
+            *wi = (0..7).map(|j| t.a[i][j] * v[j]).sum();
+        }
+        v = w;
+    }
+    let c7: f64 = (0..7).map(|i| t.b[i] * v[i]).sum();
+    for z in [-0.7, 0.3, 1.1] {
+        let one = |m: &dyn Fn(f64) -> f64, want: f64, name: &str| {
+            let got = m(z);
+            assert!((got - want).abs() <= 4.0 * f64::EPSILON * want.abs(), "{name}: R({z}) = {got}, expected {want}");
+        };
+        let step = |z: f64, which: usize| -> f64 {
+            let sys = Linear { lambda: z };
+            let y0 = Rn(nalgebra::Vector1::new(1.0));
+            let req = StepRequest::plain();
+            let y = match which {
+                1 => Rkmk::lie_euler().step(&sys, 0.0, &y0, 1.0, req).unwrap().y,
+                2 => Rkmk::heun().step(&sys, 0.0, &y0, 1.0, req).unwrap().y,
+                3 => Rkmk::kutta3().step(&sys, 0.0, &y0, 1.0, req).unwrap().y,
+                4 => Rkmk::rk4().step(&sys, 0.0, &y0, 1.0, req).unwrap().y,
+                5 => Rkmk::dopri5().step(&sys, 0.0, &y0, 1.0, req).unwrap().y,
+                _ => Rkmk::butcher6().step(&sys, 0.0, &y0, 1.0, req).unwrap().y,
+            };
+            y.0[0]
+        };
+        one(&|z| step(z, 1), exp_poly(z, 1), "Lie-Euler");
+        one(&|z| step(z, 2), exp_poly(z, 2), "Heun");
+        one(&|z| step(z, 3), exp_poly(z, 3), "Kutta3");
+        one(&|z| step(z, 4), exp_poly(z, 4), "RK4");
+        one(&|z| step(z, 5), exp_poly(z, 5) + z.powi(6) / 600.0, "DOPRI5");
+        one(&|z| step(z, 6), exp_poly(z, 6) + c7 * z.powi(7), "Butcher6");
+    }
+    eprintln!("Butcher6: bᵀA⁶𝟙 = {c7:e}");
+}

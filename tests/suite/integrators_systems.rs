@@ -220,3 +220,22 @@ impl System for Overflow {
         0.0
     }
 }
+
+/// `ẏ = λy` on ℝ (Dahlquist's test equation).
+#[derive(Debug, Clone)]
+pub struct Linear {
+    pub lambda: f64,
+}
+
+impl System for Linear {
+    type State = Rn<1>;
+    fn vector_field(&self, _t: f64, y: &Rn<1>) -> nalgebra::Vector1<f64> {
+        y.0 * self.lambda
+    }
+    fn energy(&self, _y: &Rn<1>) -> f64 {
+        0.0
+    }
+    fn defect(&self, _y: &Rn<1>) -> f64 {
+        0.0
+    }
+}
