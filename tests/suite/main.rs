@@ -5,6 +5,7 @@ mod bundle_laws;
 mod lie_laws;
 mod manifold_laws;
 
+mod coords;
 mod hyperbolic;
 mod matrix_groups;
 mod potentials;

@@ -23,6 +23,7 @@
 
 pub mod body;
 pub mod bundle;
+pub mod coords;
 pub mod dynamics;
 pub mod error;
 pub mod lie;
