@@ -1122,3 +1122,33 @@ fn on_rn_the_engine_is_classical_runge_kutta() {
     }
     eprintln!("Butcher6: bᵀA⁶𝟙 = {c7:e}");
 }
+
+/// DOPRI5 with an (arbitrary) output commutator: Θ ≠ θ₇, so it is not FSAL.
+static DP5_WITH_OUTPUT_BRACKET: Tableau<7> = Tableau {
+    brackets: Some(BracketForm {
+        stages: &[],
+        output: &[tableau::BracketTerm { left: 0, right: 6, coeff: 0.05 }],
+        source: "test: FSAL tableau with an output commutator",
+    }),
+    ..tableau::DOPRI5
+};
+
+/// Measures that the engine does not treat the last stage as the new state
+/// when output commutators make Θ ≠ θ_S: the step's state is y₀·exp(Θ)
+/// (to 1e-15) and the method reports itself as not FSAL; plain DOPRI5 is FSAL
+/// and its state is y₀·exp(Θ) too.
+#[test]
+fn fsal_only_when_the_last_stage_is_the_new_state() {
+    use framedyn::lie::AlgebraVector;
+    let (sys, y0) = heavy_top();
+    for (m, fsal) in [(Rkmk::new(&DP5_WITH_OUTPUT_BRACKET), false), (Rkmk::dopri5(), true)] {
+        assert_eq!(Method::<HeavyTop>::info(&m).fsal, fsal);
+        let req = StepRequest { f_start: None, error: true, dense: false, f_end: true };
+        let out = m.step(&sys, 0.0, &y0, 0.1, req).unwrap();
+        let direct = y0.compose(&Body::exp(&out.theta)).renormalize();
+        assert!(dist(&out.y, &direct) <= 1e-15, "state is not y0·exp(Θ): {:e}", dist(&out.y, &direct));
+        let f1 = sys.vector_field(0.1, &out.y);
+        let fe = out.f_end.unwrap();
+        assert!((fe - f1).norm() <= 1e-14, "f_end is not f(t1, y1)");
+    }
+}

@@ -252,7 +252,8 @@ where
             embedded_order: self.tableau.embedded.map(|e| e.order),
             dense_order: self.dense_order(),
             stages: S,
-            fsal: self.tableau.is_fsal(),
+            fsal: self.tableau.is_fsal()
+                && !matches!(self.correction(), Correction::Brackets(f) if !f.output.is_empty()),
             radius_limit: self.radius_limit,
         }
     }
@@ -268,7 +269,9 @@ where
         type G<Sys> = <Sys as System>::State;
         let tab = self.tableau;
         let corr = self.correction();
-        let fsal = tab.is_fsal();
+        // The last stage is at the new state only if Θ = θ_S, i.e. no output
+        // commutators are added to Θ.
+        let fsal = tab.is_fsal() && !matches!(corr, Correction::Brackets(f) if !f.output.is_empty());
         let native_dense = req.dense && tab.dense.is_some();
         let want_f_end = req.f_end || (req.dense && tab.dense.is_none());
         let n = if req.error || native_dense || (fsal && want_f_end) { S } else { tab.solution_stages() };
