@@ -1152,3 +1152,95 @@ fn fsal_only_when_the_last_stage_is_the_new_state() {
         assert!((fe - f1).norm() <= 1e-14, "f_end is not f(t1, y1)");
     }
 }
+
+/// ρ(ad_a) from the eigenvalues of the DOF × DOF matrix of `ad_a` in the
+/// group's coordinate basis.
+fn ad_spectral_radius<G: LieGroup>(a: &G::Algebra) -> f64 {
+    let dof = G::DOF;
+    let mut m = nalgebra::DMatrix::<f64>::zeros(dof, dof);
+    for j in 0..dof {
+        let mut unit = vec![0.0; dof];
+        unit[j] = 1.0;
+        let col = G::algebra_coords(&G::bracket(a, &G::algebra_from_coords(&unit)));
+        for i in 0..dof {
+            m[(i, j)] = col[i];
+        }
+    }
+    spectral_radius(m)
+}
+
+/// Largest |eigenvalue| by a real Schur decomposition with an iteration cap
+/// (NaN if it does not converge).
+fn spectral_radius(m: nalgebra::DMatrix<f64>) -> f64 {
+    match m.try_schur(f64::EPSILON, 100_000) {
+        Some(schur) => schur.complex_eigenvalues().iter().map(|z| z.norm()).fold(0.0, f64::max),
+        None => f64::NAN,
+    }
+}
+
+/// ρ(ad_a) on gl(3) from the eigenvalues of `a`: max |λᵢ − λⱼ|.
+fn gl3_ad_spectral_radius(a: &nalgebra::Matrix3<f64>) -> f64 {
+    let m = nalgebra::DMatrix::from_column_slice(3, 3, a.as_slice());
+    let ev = m.try_schur(f64::EPSILON, 100_000).expect("3×3 Schur converges").complex_eigenvalues();
+    let mut r: f64 = 0.0;
+    for i in 0..3 {
+        for j in 0..3 {
+            r = r.max((ev[i] - ev[j]).norm());
+        }
+    }
+    r
+}
+
+fn check_ad_radius<G: GroupNumerics>(name: &str, max_ratio: f64) {
+    check_ad_radius_with::<G>(name, max_ratio, &|a| ad_spectral_radius::<G>(a));
+}
+
+fn check_ad_radius_with<G: GroupNumerics>(name: &str, max_ratio: f64, rho_of: &dyn Fn(&G::Algebra) -> f64) {
+    let mut seed = 0x2545F4914F6CDD1Du64;
+    let mut rnd = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let mut worst: f64 = 1.0;
+    for _ in 0..200 {
+        let c: Vec<f64> = (0..G::DOF).map(|_| 2.0 * rnd()).collect();
+        let a = G::algebra_from_coords(&c);
+        let (bound, rho) = (G::ad_radius(&a), rho_of(&a));
+        assert!(rho.is_finite(), "{name}: eigenvalues did not converge");
+        assert!(bound >= rho * (1.0 - 1e-9) - 1e-12, "{name}: bound {bound} < ρ(ad) {rho}");
+        if rho > 1e-9 {
+            worst = worst.max(bound / rho);
+        }
+    }
+    eprintln!("{name}: ad_radius / ρ(ad) ≤ {worst:.3}");
+    assert!(worst <= max_ratio, "{name}: bound up to {worst}× ρ(ad)");
+}
+
+/// Measures that `GroupNumerics::ad_radius` bounds the spectral radius of
+/// `ad_a` (from the eigenvalues of its matrix in the DOF basis) for 200
+/// random elements of every group, and how tight it is: exact for SO(3),
+/// SU(2), SO⁺(1,2), SO(4), SO(3) as SoN, GL⁺(2), SL(2), CO⁺(3); 0 for the
+/// abelian SO(2), ℝᵏ, SoN<2>; within 2× for SO(4) as SoN; for GL⁺(3) (a
+/// Frobenius-norm bound, arbitrarily loose for far-from-normal elements) only
+/// the bound is checked.
+#[test]
+fn ad_radius_bounds_the_spectral_radius_of_ad() {
+    use framedyn::lie::{Co, Gl, Sl, So12, So2, So4, SoN, Su2};
+    check_ad_radius::<So3>("SO(3)", 1.0 + 1e-9);
+    check_ad_radius::<Su2>("SU(2)", 1.0 + 1e-9);
+    check_ad_radius::<So12>("SO+(1,2)", 1.0 + 1e-9);
+    check_ad_radius::<So4>("SO(4)", 1.0 + 1e-9);
+    check_ad_radius::<SoN<3>>("SoN<3>", 1.0 + 1e-9);
+    check_ad_radius::<SoN<4>>("SoN<4>", 2.0);
+    check_ad_radius::<Gl<2>>("GL(2)", 1.0 + 1e-9);
+    check_ad_radius_with::<Gl<3>>("GL(3)", f64::INFINITY, &gl3_ad_spectral_radius);
+    check_ad_radius::<Sl<2>>("SL(2)", 1.0 + 1e-9);
+    check_ad_radius::<Co<3>>("CO(3)", 1.0 + 1e-9);
+    check_ad_radius::<Body>("SO(3) × R3", 1.0 + 1e-9);
+    let z = nalgebra::Vector1::new(0.7);
+    assert_eq!(So2::ad_radius(&z), 0.0);
+    assert_eq!(SoN::<2>::ad_radius(&nalgebra::Matrix2::new(0.0, -1.0, 1.0, 0.0)), 0.0);
+    assert_eq!(Rn::<3>::ad_radius(&Vector3::new(1.0, 2.0, 3.0)), 0.0);
+}

@@ -147,11 +147,16 @@ fn skew_frobenius<const N: usize>(a: &SMatrix<f64, N, N>) -> f64 {
 }
 
 impl<const N: usize> GroupNumerics for SoN<N> {
-    /// `√2·‖ω‖_F` of the skew part `ω`: with rotation angles `θ_k`,
-    /// `ρ(ad_ω) ≤ 2 max θ_k` and `‖ω‖_F² = 2 Σ θ_k²`.
+    /// For the skew part `ω` with rotation angles `θ_k` (`‖ω‖_F² = 2 Σ θ_k²`):
+    /// 0 for n ≤ 2 (abelian), `θ = ‖ω‖_F/√2` for n = 3 (`ad_ω` has eigenvalues
+    /// `0, ±iθ`), and `2 max θ_k ≤ √2·‖ω‖_F` for n ≥ 4 (eigenvalues `±i(θ_j ± θ_k)`).
     #[inline]
     fn ad_radius(a: &Self::Algebra) -> f64 {
-        std::f64::consts::SQRT_2 * skew_frobenius(a)
+        match N {
+            0..=2 => 0.0,
+            3 => skew_frobenius(a) * std::f64::consts::FRAC_1_SQRT_2,
+            _ => std::f64::consts::SQRT_2 * skew_frobenius(a),
+        }
     }
     #[inline]
     fn tolerance_scale(&self) -> Self::Algebra {
@@ -164,10 +169,10 @@ impl<const N: usize> GroupNumerics for SoN<N> {
 }
 
 impl<const N: usize> GroupNumerics for Co<N> {
-    /// `√2·‖ω‖_F` of the skew part: the dilatation `κI` is central.
+    /// That of [`SoN`] for the skew part: the dilatation `κI` is central.
     #[inline]
     fn ad_radius(a: &Self::Algebra) -> f64 {
-        std::f64::consts::SQRT_2 * skew_frobenius(a)
+        SoN::<N>::ad_radius(&((a - a.transpose()) * 0.5))
     }
     #[inline]
     fn tolerance_scale(&self) -> Self::Algebra {
@@ -179,12 +184,28 @@ impl<const N: usize> GroupNumerics for Co<N> {
     }
 }
 
+/// `ρ(ad_a)` for gl(n): the trace part is central and the eigenvalues of
+/// `ad_a` are the differences `λᵢ − λⱼ` of those of `a₀ = a − (tr a/n) I`.
+/// For n = 2 exactly `2√|det a₀|` (`a₀` has eigenvalues `±√(−det a₀)`); for
+/// n ≥ 3 the bound `2‖a₀‖_F` (`|λ| ≤ ‖a₀‖₂ ≤ ‖a₀‖_F`), tight for normal `a₀`
+/// and conservative for far-from-normal ones (nilpotent `a` has `ρ = 0`).
+fn gl_ad_radius<const N: usize>(a: &SMatrix<f64, N, N>) -> f64 {
+    let mean = a.trace() / N as f64;
+    let a0 = a - SMatrix::<f64, N, N>::identity() * mean;
+    if N == 2 {
+        let det = a0[(0, 0)] * a0[(1, 1)] - a0[(0, 1)] * a0[(1, 0)];
+        2.0 * det.abs().sqrt()
+    } else {
+        2.0 * a0.norm()
+    }
+}
+
 impl<const N: usize> GroupNumerics for Gl<N> {
-    /// `2‖a‖_F`: the eigenvalues of `ad_a` are the differences `λᵢ − λⱼ` of
-    /// those of `a`, and `|λ| ≤ ‖a‖₂ ≤ ‖a‖_F`.
+    /// See [`Gl`]'s algebra: exact for n = 2, `2‖a₀‖_F` for n ≥ 3, with
+    /// `a₀` the traceless part (the trace part is central).
     #[inline]
     fn ad_radius(a: &Self::Algebra) -> f64 {
-        2.0 * a.norm()
+        gl_ad_radius(a)
     }
     #[inline]
     fn tolerance_scale(&self) -> Self::Algebra {
@@ -197,10 +218,10 @@ impl<const N: usize> GroupNumerics for Gl<N> {
 }
 
 impl<const N: usize> GroupNumerics for Sl<N> {
-    /// `2‖a‖_F`, as for [`Gl`].
+    /// As for [`Gl`]: exact for n = 2, `2‖a₀‖_F` for n ≥ 3.
     #[inline]
     fn ad_radius(a: &Self::Algebra) -> f64 {
-        2.0 * a.norm()
+        gl_ad_radius(a)
     }
     #[inline]
     fn tolerance_scale(&self) -> Self::Algebra {
