@@ -16,6 +16,10 @@
 //!   and their parameters;
 //! - [`dynamics`]: equations of motion in the frame-bundle form, as
 //!   left-trivialised vector fields on Lie groups;
+//! - [`coords`]: the paper's own coordinate ("E-gauge") formulation — chart
+//!   Lagrangians from (a52)/(a74) with Euler–Lagrange equations by automatic
+//!   differentiation — an independent cross-check of the frame-bundle form and
+//!   the baseline that shows where coordinates fail (poles);
 //! - [`potential`]: potentials `V(x, e)` written once, generic over dual
 //!   numbers, so forces and torques come by automatic differentiation.
 #![deny(missing_docs)]

@@ -65,3 +65,12 @@ pub fn internal_gradient<const N: usize, const E: usize>(
 ) -> SMatrix<f64, N, N> {
     q.transpose() * grad.de
 }
+
+pub mod gyroscope;
+pub mod gyroscope2;
+pub mod gyroscope3;
+pub mod point;
+
+pub use gyroscope2::{Gyroscope2Model, Gyroscope2State};
+pub use gyroscope3::{Gyroscope3Model, Gyroscope3State, PaperMomenta};
+pub use point::{PointModel, PointState};
