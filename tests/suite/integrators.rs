@@ -11,6 +11,9 @@
 #[path = "integrators_systems.rs"]
 mod systems;
 
+#[path = "integrators_models.rs"]
+mod models;
+
 use framedyn::dynamics::System;
 use framedyn::lie::{LieGroup, Product, Rn, So3};
 use framedyn::method::tableau::{self, BracketForm, Tableau};
@@ -185,16 +188,27 @@ where
     S: System + Clone,
     S::State: GroupNumerics,
 {
+    orders_on_with(label, sys, y0, t_end, (&NS_EULER, &NS_LOW, &NS_HIGH));
+}
+
+/// Step-count ladders: (Lie–Euler, orders 2–4, orders 5–6).
+type Ladders<'a> = (&'a [usize], &'a [usize], &'a [usize]);
+
+fn orders_on_with<S>(label: &str, sys: &S, y0: S::State, t_end: f64, (euler, low, high): Ladders)
+where
+    S: System + Clone,
+    S::State: GroupNumerics,
+{
     let r = reference(sys, y0, t_end);
     eprintln!("{label}: reference error estimate {:.1e}", r.1);
-    check_order(label, sys, y0, t_end, Rkmk::lie_euler(), &NS_EULER, 1.0, &r);
-    check_order(label, sys, y0, t_end, Rkmk::heun(), &NS_LOW, 2.0, &r);
-    check_order(label, sys, y0, t_end, Rkmk::kutta3(), &NS_LOW, 3.0, &r);
-    check_order(label, sys, y0, t_end, Rkmk::rk4(), &NS_LOW, 4.0, &r);
-    check_order(label, sys, y0, t_end, Rkmk::rk4().with_dexp_inv(DexpInv::Series(2)), &NS_LOW, 4.0, &r);
-    check_order(label, sys, y0, t_end, Rkmk::rk4().with_dexp_inv(DexpInv::ClosedForm), &NS_LOW, 4.0, &r);
-    check_order(label, sys, y0, t_end, Rkmk::dopri5(), &NS_HIGH, 5.0, &r);
-    check_order(label, sys, y0, t_end, Rkmk::butcher6(), &NS_HIGH, 6.0, &r);
+    check_order(label, sys, y0, t_end, Rkmk::lie_euler(), euler, 1.0, &r);
+    check_order(label, sys, y0, t_end, Rkmk::heun(), low, 2.0, &r);
+    check_order(label, sys, y0, t_end, Rkmk::kutta3(), low, 3.0, &r);
+    check_order(label, sys, y0, t_end, Rkmk::rk4(), low, 4.0, &r);
+    check_order(label, sys, y0, t_end, Rkmk::rk4().with_dexp_inv(DexpInv::Series(2)), low, 4.0, &r);
+    check_order(label, sys, y0, t_end, Rkmk::rk4().with_dexp_inv(DexpInv::ClosedForm), low, 4.0, &r);
+    check_order(label, sys, y0, t_end, Rkmk::dopri5(), high, 5.0, &r);
+    check_order(label, sys, y0, t_end, Rkmk::butcher6(), high, 6.0, &r);
 }
 
 /// Measures the global-error order (least-squares slope over 5 step sizes)
@@ -245,18 +259,28 @@ where
     S: System + Clone,
     S::State: GroupNumerics,
 {
+    truncation_on_with(label, sys, y0, t_end, &NS_LOW, if check_ad4 { Some(&NS_HIGH) } else { None });
+}
+
+/// As [`truncation_on`] with the ladder `low` for the order 2–3 checks and
+/// `b6` for Butcher 6 without ad⁴ (None: not checked).
+fn truncation_on_with<S>(label: &str, sys: &S, y0: S::State, t_end: f64, low: &[usize], b6: Option<&[usize]>)
+where
+    S: System + Clone,
+    S::State: GroupNumerics,
+{
     let r = reference(sys, y0, t_end);
     // One term too few: the order drops to the number of terms kept + 2.
-    check_order(label, sys, y0, t_end, Rkmk::kutta3().with_dexp_inv(DexpInv::Series(0)), &NS_LOW, 2.0, &r);
-    check_order(label, sys, y0, t_end, Rkmk::rk4().with_dexp_inv(DexpInv::Series(1)), &NS_LOW, 3.0, &r);
-    check_order(label, sys, y0, t_end, Rkmk::dopri5().with_dexp_inv(DexpInv::Series(1)), &NS_LOW, 3.0, &r);
+    check_order(label, sys, y0, t_end, Rkmk::kutta3().with_dexp_inv(DexpInv::Series(0)), low, 2.0, &r);
+    check_order(label, sys, y0, t_end, Rkmk::rk4().with_dexp_inv(DexpInv::Series(1)), low, 3.0, &r);
+    check_order(label, sys, y0, t_end, Rkmk::dopri5().with_dexp_inv(DexpInv::Series(1)), low, 3.0, &r);
     // RKMK6 needs ad⁴ (the ad³ coefficient B₃ vanishes, so ad² is one term too few).
-    if check_ad4 {
-        check_order(label, sys, y0, t_end, Rkmk::butcher6().with_dexp_inv(DexpInv::Series(2)), &NS_HIGH, 5.0, &r);
+    if let Some(ns) = b6 {
+        check_order(label, sys, y0, t_end, Rkmk::butcher6().with_dexp_inv(DexpInv::Series(2)), ns, 5.0, &r);
     }
     // Each commutator of the two-commutator RK4 is needed.
-    check_order(label, sys, y0, t_end, Rkmk::new(&RK4_NO_OUTPUT_BRACKET), &NS_LOW, 2.0, &r);
-    check_order(label, sys, y0, t_end, Rkmk::new(&RK4_NO_STAGE_BRACKET), &NS_LOW, 3.0, &r);
+    check_order(label, sys, y0, t_end, Rkmk::new(&RK4_NO_OUTPUT_BRACKET), low, 2.0, &r);
+    check_order(label, sys, y0, t_end, Rkmk::new(&RK4_NO_STAGE_BRACKET), low, 3.0, &r);
 }
 
 /// Measures that truncating dexp⁻¹ one term too early is detected: Kutta 3
@@ -449,6 +473,27 @@ fn adaptive_error_is_proportional_to_the_tolerance() {
     check_proportional("rigid body", &sys, y0);
     let (sys, y0) = hyperbolic();
     check_proportional("H2 oscillator", &sys, y0);
+}
+
+/// The largest factor by which the flow over `[0, t_end]` amplifies an
+/// initial perturbation of 1e-7 along each algebra coordinate (RKMK6 with
+/// 4000 steps), printed and returned.
+fn amplification<S>(label: &str, sys: &S, y0: S::State, t_end: f64) -> f64
+where
+    S: System + Clone,
+    S::State: GroupNumerics,
+{
+    use framedyn::lie::AlgebraVector;
+    let base = run_fixed(sys, y0, t_end, 4000, Rkmk::butcher6());
+    let mut worst: f64 = 0.0;
+    for i in 0..<<S::State as LieGroup>::Algebra as AlgebraVector>::LEN {
+        let mut d = <<S::State as LieGroup>::Algebra as AlgebraVector>::zero();
+        d.set(i, 1e-7);
+        let yt = run_fixed(sys, y0.compose(&S::State::exp(&d)), t_end, 4000, Rkmk::butcher6());
+        worst = worst.max(base.inverse().compose(&yt).log().expect("log near identity").norm() / 1e-7);
+    }
+    eprintln!("{label}: perturbations amplified up to {worst:.1}× over T = {t_end}");
+    worst
 }
 
 /// Measures that the embedded estimate `Θ − Θ̂` is the local error of the
@@ -1078,9 +1123,10 @@ fn fixed_step_path_does_not_allocate_per_step() {
 /// Measures that on the additive group ℝ (brackets vanish, exp = id) the
 /// engine is exactly the classical Runge–Kutta method — the path of the
 /// coordinate baselines: one step of ẏ = λy with z = hλ ∈ {−0.7, 0.3, 1.1}
-/// equals the stability polynomial R(z) to 4ε: 1 + z (Euler), + z²/2 (Heun),
-/// + z³/6 (Kutta 3), + z⁴/24 (RK4), + z⁵/120 + z⁶/600 (DOPRI5), and
-/// bᵀ(I − zA)⁻¹𝟙 expanded for Butcher 6 (Σ_{k≤6} z^k/k! + bᵀA⁶𝟙 z⁷).
+/// equals the stability polynomial R(z) to 4ε: `1 + z` (Euler), adding
+/// `z²/2` (Heun), `z³/6` (Kutta 3), `z⁴/24` (RK4), `z⁵/120 + z⁶/600`
+/// (DOPRI5), and `1 + z bᵀ(I − zA)⁻¹𝟙` expanded for Butcher 6
+/// (`Σ_{k≤6} z^k/k! + bᵀA⁶𝟙 z⁷`).
 #[test]
 fn on_rn_the_engine_is_classical_runge_kutta() {
     let exp_poly = |z: f64, k: usize| (0..=k).map(|j| z.powi(j as i32) / (1..=j).map(|i| i as f64).product::<f64>()).sum::<f64>();
