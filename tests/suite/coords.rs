@@ -1489,6 +1489,12 @@ proptest! {
         let v = SVector::<f64, 6>::from(vel);
         let a = ambient_state(&en, &q, &v).unwrap();
         prop_assume!(TwoPolar.coordinates(&en.internal_matrix(&q)).is_ok());
+        // The two-polar chart (α, β, λ, μ) is singular at λ = μ (α and β are
+        // then not separately defined, like φ at a pole): stay 5% away from
+        // it, where its conditioning allows the 1e-10 comparison (a CI run hit
+        // λ/μ = 1.0007 with error above 1e-10).
+        let sv = en.internal_matrix(&q).singular_values();
+        prop_assume!((sv[0] - sv[1]).abs() > 0.05 * (sv[0] + sv[1]));
         let reference = ambient_acceleration(&en, &q, &v, &accelerations(&en, &q, &v).unwrap()).unwrap();
         let (qt, vt) = from_ambient(&tp, &a).unwrap();
         let at = ambient_acceleration(&tp, &qt, &vt, &accelerations(&tp, &qt, &vt).unwrap()).unwrap();

@@ -6,6 +6,7 @@ mod lie_laws;
 mod manifold_laws;
 
 mod coords;
+mod crosscheck;
 mod dynamics_gyro;
 mod hyperbolic;
 mod matrix_groups;

@@ -1,0 +1,385 @@
+//! Cross-check of the two formulations (issue "Bodies, potentials and
+//! invariants"): the frame-bundle models (`dynamics::{PointModel,
+//! Gyroscope2Model, Gyroscope3Model}`) against the paper's coordinate
+//! Lagrangians (`coords`), built from the same ambient data `(X, Ẋ, e, ė)` at
+//! random chart states away from the poles.
+//!
+//! Instantaneous: `Ẍ = Σ u̇_a q_a + Σ u_a q̇_a` from the bundle vector field
+//! (with `q̇` from `FrameBundle::frame_velocity`) against
+//! `coords::ambient_acceleration` at the Euler–Lagrange `q̈`; the first-order
+//! data `Ẋ`, `ė = q̇ρ + qρ̇` (which checks the spin ↔ angular-velocity map and
+//! the signature); for n = 2 the spin rate `ṡ` against `∂L/∂ψ` (`s = p_ψ`).
+//! Trajectories: RK4 on `(q, q̇)` and RKMK4 on the bundle state, ambient
+//! position and body frame compared over t = 1.
+
+use framedyn::body::{Gyroscope, Point, Signature};
+use framedyn::bundle::FrameBundle;
+use framedyn::coords::*;
+use framedyn::dynamics::{Gyroscope2Model, Gyroscope3Model, PointModel, System};
+use framedyn::lie::So3;
+use framedyn::manifold::{Hyperbolic2, Sphere2, Sphere3, Torus2};
+use framedyn::potential::{Centre, CosineFamily, Free, Oscillator, Potential, Scalar, Sum};
+use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};
+use proptest::prelude::*;
+
+use crate::bundle_laws::rkmk4_step;
+
+fn config(cases: u32) -> ProptestConfig {
+    ProptestConfig { cases, failure_persistence: None, ..ProptestConfig::default() }
+}
+
+/// Largest entry of `a − b` relative to `max(1, |b|_max)`.
+fn rel<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) -> f64 {
+    (a - b).amax() / b.amax().max(1.0)
+}
+
+/// `V = a·x[axis]/R + b·e₁[axis]`: position tilt plus a frame (dipole) term.
+#[derive(Debug, Clone, Copy)]
+struct Axial<const N: usize, const E: usize> {
+    a: f64,
+    b: f64,
+    radius: f64,
+    axis: usize,
+}
+
+impl<const N: usize, const E: usize> Potential<N, E> for Axial<N, E> {
+    fn uses_frame(&self) -> bool {
+        self.b != 0.0
+    }
+    fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, _m: &SMatrix<f64, E, E>) -> D {
+        x[self.axis] * (self.a / self.radius) + e[(self.axis, 0)] * self.b
+    }
+}
+
+const EPS2: Matrix2<f64> = Matrix2::new(0.0, -1.0, 1.0, 0.0);
+
+/// Discrepancies of the point model against the coordinate Lagrangian at
+/// `(q, q̇)`: `[Ẋ, Ẍ]`.
+fn point_derivs<C, B, P>(chart: C, bundle: B, m: f64, pot: P, q: Vector2<f64>, v: Vector2<f64>) -> [f64; 2]
+where
+    C: ChartGeometry<2, 3>,
+    B: FrameBundle<2, 3> + Copy,
+    P: Potential<2, 3> + Clone,
+{
+    let point = Point::new(m).unwrap();
+    let sys = PointLagrangian::new(chart, &point, pot.clone());
+    let amb = ambient_state(&sys, &q, &v).unwrap();
+    let model = PointModel::<B, P, 2, 3>::new(bundle, point, pot).unwrap();
+    let y = model.state(&amb.position, &amb.velocity).unwrap();
+    let f = model.vector_field(0.0, &y);
+    let (xdot, qdot) = bundle.frame_velocity(&y.0, &f.0);
+    let u = model.velocity_components(&y);
+    let xdd = bundle.frame_vectors(&y.0) * f.1 + qdot * u;
+    let acc = accelerations(&sys, &q, &v).unwrap();
+    let aa = ambient_acceleration(&sys, &q, &v, &acc).unwrap();
+    [rel(&xdot, &amb.velocity), rel(&xdd, &aa.acceleration)]
+}
+
+/// n = 2 gyroscope: `[Ẋ, ė, Ẍ, ṡ]`.
+fn gyro2_derivs<C, B, P>(chart: C, bundle: B, body: Gyroscope<2>, pot: P, q: Vector3<f64>, v: Vector3<f64>) -> [f64; 4]
+where
+    C: ChartGeometry<2, 3>,
+    B: FrameBundle<2, 3> + Copy,
+    P: Potential<2, 3> + Clone,
+{
+    let sys = Gyroscope2::gyroscope(chart, PlaneRotation, &body, pot.clone());
+    let amb = ambient_state(&sys, &q, &v).unwrap();
+    let s = sys.comoving(&q, &v).unwrap().spin[(0, 1)];
+    let model = Gyroscope2Model::new(bundle, body, pot).unwrap();
+    let y = model.state(&amb.position, &amb.velocity, &amb.frame, s).unwrap();
+    let f = model.vector_field(0.0, &y);
+    let g = &y.0 .0;
+    let (xdot, qdot) = bundle.frame_velocity(g, &f.0 .0);
+    let qf = bundle.frame_vectors(g);
+    // ρ = 1 at the start: ė = q̇ + q·(α̇ ε).
+    let edot = qdot + qf * (EPS2 * f.0 .1[0]);
+    let u = model.velocity_components(&y);
+    let udot = Vector2::new(f.1[0], f.1[1]);
+    let xdd = qf * udot + qdot * u;
+    let acc = accelerations(&sys, &q, &v).unwrap();
+    let aa = ambient_acceleration(&sys, &q, &v, &acc).unwrap();
+    let sdot = lagrangian_derivatives(&sys, &q, &v).unwrap().force[2];
+    [
+        rel(&xdot, &amb.velocity),
+        rel(&edot, &amb.frame_rate),
+        rel(&xdd, &aa.acceleration),
+        (f.1[2] - sdot).abs() / sdot.abs().max(1.0),
+    ]
+}
+
+/// The S³ gyroscope: spin `π` in components of the body frame `e = Eφ`
+/// (`S_e = φᵀ S_E φ`, `S = −[π]×`).
+fn gyro3_spin(cm: &CoMoving<3>) -> Vector3<f64> {
+    let se = cm.phi.transpose() * cm.spin * cm.phi;
+    -So3::vee(&se)
+}
+
+/// S³ gyroscope: `[Ẋ, ė, Ẍ]`.
+fn gyro3_derivs<P>(radius: f64, body: Gyroscope<3>, pot: P, q: SVector<f64, 6>, v: SVector<f64, 6>) -> [f64; 3]
+where
+    P: Potential<3, 4> + Clone,
+{
+    let sys = Gyroscope3::gyroscope(Sphere3Chart::new(radius).unwrap(), RotationVector, &body, pot.clone());
+    let amb = ambient_state(&sys, &q, &v).unwrap();
+    let pi = gyro3_spin(&sys.comoving(&q, &v).unwrap());
+    let bundle = Sphere3::new(radius).unwrap();
+    let model = Gyroscope3Model::new(bundle, body, pot).unwrap();
+    let y = model.state(&amb.position, &amb.velocity, &amb.frame, &pi).unwrap();
+    let f = model.vector_field(0.0, &y);
+    let g = &y.0 .0;
+    let (xdot, qdot) = bundle.frame_velocity(g, &f.0 .0);
+    let qf = bundle.frame_vectors(g);
+    let edot = qdot + qf * So3::hat(&f.0 .1);
+    let u = model.velocity_components(&y);
+    let udot = Vector3::new(f.1[0], f.1[1], f.1[2]);
+    let xdd = qf * udot + qdot * u;
+    let acc = accelerations(&sys, &q, &v).unwrap();
+    let aa = ambient_acceleration(&sys, &q, &v, &acc).unwrap();
+    [rel(&xdot, &amb.velocity), rel(&edot, &amb.frame_rate), rel(&xdd, &aa.acceleration)]
+}
+
+fn sig(lorentz: bool) -> Signature {
+    if lorentz {
+        Signature::Lorentz
+    } else {
+        Signature::Riemannian
+    }
+}
+
+const TOL: f64 = 1e-12;
+
+fn assert_all(what: &str, d: &[f64]) -> Result<(), TestCaseError> {
+    prop_assert!(d.iter().all(|x| *x <= TOL), "{what}: {d:?}");
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(config(64))]
+
+    #[test]
+    fn point_derivatives_agree(
+        radius in 0.5..2.0f64, m in 0.5..2.0f64, k in 0.1..2.0f64, b in -1.0..1.0f64,
+        th in 0.3..2.8f64, phi in -3.0..3.0f64, v in proptest::collection::vec(-1.0..1.0f64, 2),
+    ) {
+        let vv = Vector2::new(v[0], v[1]);
+        let s2 = Sphere2::new(radius).unwrap();
+        let sc = SphereChart::new(radius).unwrap();
+        let q = Vector2::new(th * radius, phi);
+        assert_all("S2 free", &point_derivs(sc.clone(), s2, m, Free, q, vv))?;
+        let osc = Oscillator::new(k, Centre::sphere2(&s2)).unwrap();
+        assert_all("S2 oscillator", &point_derivs(sc.clone(), s2, m, osc, q, vv))?;
+        let cos = CosineFamily::new(k, b, Centre::sphere2(&s2)).unwrap();
+        assert_all("S2 cosine family", &point_derivs(sc, s2, m, cos, q, vv))?;
+        let h2 = Hyperbolic2::new(radius).unwrap();
+        let hc = HyperbolicChart::new(radius).unwrap();
+        let qh = Vector2::new(th * radius * 0.7, phi);
+        assert_all("H2 free", &point_derivs(hc.clone(), h2, m, Free, qh, vv))?;
+        let osc = Oscillator::new(k, Centre::hyperbolic2(&h2)).unwrap();
+        assert_all("H2 oscillator", &point_derivs(hc, h2, m, osc, qh, vv))?;
+        let (bl, r) = (2.5 * radius, radius);
+        let t2 = Torus2::new(bl, r).unwrap();
+        let tc = TorusChart::new(bl, r).unwrap();
+        let qt = Vector2::new(th * 2.0, phi);
+        assert_all("T2 free", &point_derivs(tc.clone(), t2, m, Free, qt, vv))?;
+        let ax = Axial::<2, 3> { a: k, b: 0.0, radius: r, axis: 2 };
+        assert_all("T2 axial", &point_derivs(tc, t2, m, ax, qt, vv))?;
+    }
+
+    #[test]
+    fn gyroscope2_derivatives_agree(
+        radius in 0.5..2.0f64, m in 0.5..2.0f64, moment in 0.1..1.0f64, lorentz in proptest::bool::ANY,
+        k in 0.1..2.0f64, b in -1.0..1.0f64,
+        th in 0.3..2.8f64, phi in -3.0..3.0f64, psi in -3.0..3.0f64, v in proptest::collection::vec(-1.0..1.0f64, 3),
+    ) {
+        let body = Gyroscope::<2>::isotropic(m, moment).unwrap().with_signature(sig(lorentz));
+        let vv = Vector3::new(v[0], v[1], v[2]);
+        let s2 = Sphere2::new(radius).unwrap();
+        let sc = SphereChart::new(radius).unwrap();
+        let q = Vector3::new(th * radius, phi, psi);
+        assert_all("S2 free", &gyro2_derivs(sc.clone(), s2, body, Free, q, vv))?;
+        let osc = Oscillator::new(k, Centre::sphere2(&s2)).unwrap();
+        assert_all("S2 oscillator", &gyro2_derivs(sc.clone(), s2, body, osc, q, vv))?;
+        let ax = Sum::new(osc, Axial::<2, 3> { a: 0.3, b, radius, axis: 0 });
+        assert_all("S2 oscillator + frame", &gyro2_derivs(sc, s2, body, ax, q, vv))?;
+        let h2 = Hyperbolic2::new(radius).unwrap();
+        let hc = HyperbolicChart::new(radius).unwrap();
+        let qh = Vector3::new(th * radius * 0.7, phi, psi);
+        assert_all("H2 free", &gyro2_derivs(hc.clone(), h2, body, Free, qh, vv))?;
+        let osc = Oscillator::new(k, Centre::hyperbolic2(&h2)).unwrap();
+        let ax = Sum::new(osc, Axial::<2, 3> { a: 0.0, b, radius, axis: 0 });
+        assert_all("H2 oscillator + frame", &gyro2_derivs(hc, h2, body, ax, qh, vv))?;
+        let (bl, r) = (2.5 * radius, radius);
+        let t2 = Torus2::new(bl, r).unwrap();
+        let tc = TorusChart::new(bl, r).unwrap();
+        let qt = Vector3::new(th * 2.0, phi, psi);
+        assert_all("T2 free", &gyro2_derivs(tc.clone(), t2, body, Free, qt, vv))?;
+        let ax = Axial::<2, 3> { a: k, b, radius: r, axis: 2 };
+        assert_all("T2 axial + frame", &gyro2_derivs(tc, t2, body, ax, qt, vv))?;
+    }
+
+    #[test]
+    fn gyroscope3_derivatives_agree(
+        radius in 0.5..2.0f64, m in 0.5..2.0f64, lorentz in proptest::bool::ANY,
+        j in proptest::collection::vec(0.1..1.0f64, 3), off in proptest::collection::vec(-0.05..0.05f64, 3),
+        k in 0.1..2.0f64, b in -1.0..1.0f64,
+        x in proptest::collection::vec(-0.8..0.8f64, 6), v in proptest::collection::vec(-1.0..1.0f64, 6),
+    ) {
+        let jm = Matrix3::new(j[0], off[0], off[1], off[0], j[1], off[2], off[1], off[2], j[2]);
+        let body = Gyroscope::<3>::new(m, jm).unwrap().with_signature(sig(lorentz));
+        let mut q = SVector::<f64, 6>::from_column_slice(&x);
+        for i in 0..3 { q[i] *= radius; }
+        let vv = SVector::<f64, 6>::from_column_slice(&v);
+        assert_all("S3 free", &gyro3_derivs(radius, body, Free, q, vv))?;
+        let s3 = Sphere3::new(radius).unwrap();
+        let pot = Sum::new(Oscillator::new(k, Centre::sphere3(&s3)).unwrap(), Axial::<3, 4> { a: 0.2, b, radius, axis: 1 });
+        assert_all("S3 oscillator + frame", &gyro3_derivs(radius, body, pot, q, vv))?;
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Trajectories over t = 1
+// ---------------------------------------------------------------------------
+
+/// One classical RK4 step of the Euler–Lagrange equations (as in coords.rs).
+fn rk4_step<L: Lagrangian<Q>, const Q: usize>(
+    sys: &L,
+    q: &SVector<f64, Q>,
+    v: &SVector<f64, Q>,
+    h: f64,
+) -> (SVector<f64, Q>, SVector<f64, Q>) {
+    let acc = |q: &SVector<f64, Q>, v: &SVector<f64, Q>| accelerations(sys, q, v).expect("EL accelerations");
+    let a1 = acc(q, v);
+    let (q2, v2) = (q + v * (h / 2.0), v + a1 * (h / 2.0));
+    let a2 = acc(&q2, &v2);
+    let (q3, v3) = (q + v2 * (h / 2.0), v + a2 * (h / 2.0));
+    let a3 = acc(&q3, &v3);
+    let (q4, v4) = (q + v3 * h, v + a3 * h);
+    let a4 = acc(&q4, &v4);
+    (q + (v + v2 * 2.0 + v3 * 2.0 + v4) * (h / 6.0), v + (a1 + a2 * 2.0 + a3 * 2.0 + a4) * (h / 6.0))
+}
+
+/// Worst difference (max over steps) of ambient position and body frame
+/// between RK4 on `(q, q̇)` and RKMK4 on the bundle state, `n` steps to t = 1.
+fn trajectory_diff<L, S, const Q: usize, const N: usize, const E: usize>(
+    sys: &L,
+    model: &S,
+    y0: S::State,
+    q0: SVector<f64, Q>,
+    v0: SVector<f64, Q>,
+    n: usize,
+    read: impl Fn(&S::State) -> (SVector<f64, E>, SMatrix<f64, E, N>),
+) -> f64
+where
+    L: AmbientMap<Q, N, E>,
+    S: System,
+{
+    let h = 1.0 / n as f64;
+    let f = |t: f64, y: &S::State| model.vector_field(t, y);
+    let (mut q, mut v, mut y) = (q0, v0, y0);
+    let mut worst: f64 = 0.0;
+    for i in 0..n {
+        (q, v) = rk4_step(sys, &q, &v, h);
+        y = rkmk4_step(&y, i as f64 * h, h, &f);
+        let amb = ambient_state(sys, &q, &v).unwrap();
+        let (x, e) = read(&y);
+        worst = worst.max((x - amb.position).amax()).max((e - amb.frame).amax());
+    }
+    worst
+}
+
+const STEPS: usize = 400;
+const TRAJ_TOL: f64 = 1e-10;
+
+/// `diff(n)` at [`STEPS`]; if above [`TRAJ_TOL`], at twice the steps, which
+/// must both meet the tolerance and have shrunk ≥ 10× (RK4/RKMK4 truncation
+/// error, 16× at h/2) — so a real discrepancy, which does not shrink, fails.
+fn refine(what: &str, diff: impl Fn(usize) -> f64) -> Result<(), TestCaseError> {
+    let d1 = diff(STEPS);
+    if d1 <= TRAJ_TOL {
+        return Ok(());
+    }
+    let d2 = diff(2 * STEPS);
+    prop_assert!(d2 <= TRAJ_TOL && d1 / d2 >= 10.0, "{what}: {d1:e} at {STEPS} steps, {d2:e} at {}", 2 * STEPS);
+    Ok(())
+}
+
+fn gyro2_traj<C, B, P>(chart: C, bundle: B, body: Gyroscope<2>, pot: P, q: Vector3<f64>, v: Vector3<f64>, n: usize) -> f64
+where
+    C: ChartGeometry<2, 3>,
+    B: FrameBundle<2, 3> + Copy,
+    P: Potential<2, 3> + Clone,
+{
+    let sys = Gyroscope2::gyroscope(chart, PlaneRotation, &body, pot.clone());
+    let amb = ambient_state(&sys, &q, &v).unwrap();
+    let s = sys.comoving(&q, &v).unwrap().spin[(0, 1)];
+    let model = Gyroscope2Model::new(bundle, body, pot).unwrap();
+    let y = model.state(&amb.position, &amb.velocity, &amb.frame, s).unwrap();
+    trajectory_diff(&sys, &model, y, q, v, n, |y| (model.position(y), model.body_frame(y)))
+}
+
+fn point_traj<C, B, P>(chart: C, bundle: B, m: f64, pot: P, q: Vector2<f64>, v: Vector2<f64>, n: usize) -> f64
+where
+    C: ChartGeometry<2, 3>,
+    B: FrameBundle<2, 3> + Copy,
+    P: Potential<2, 3> + Clone,
+{
+    let point = Point::new(m).unwrap();
+    let sys = PointLagrangian::new(chart, &point, pot.clone());
+    let amb = ambient_state(&sys, &q, &v).unwrap();
+    let model = PointModel::<B, P, 2, 3>::new(bundle, point, pot).unwrap();
+    let y = model.state(&amb.position, &amb.velocity).unwrap();
+    // The point has no body frame (the coordinate side reports zeros).
+    trajectory_diff(&sys, &model, y, q, v, n, |y| (model.position(y), SMatrix::<f64, 3, 2>::zeros()))
+}
+
+proptest! {
+    #![proptest_config(config(6))]
+
+    #[test]
+    fn point_and_gyroscope2_trajectories_agree(
+        radius in 0.7..1.5f64, m in 0.7..1.5f64, moment in 0.3..1.0f64, lorentz in proptest::bool::ANY,
+        k in 0.1..1.0f64, b in -0.5..0.5f64,
+        th in 1.2..1.9f64, phi in -3.0..3.0f64, psi in -3.0..3.0f64, v in proptest::collection::vec(-0.5..0.5f64, 3),
+    ) {
+        let body = Gyroscope::<2>::isotropic(m, moment).unwrap().with_signature(sig(lorentz));
+        let vv = Vector3::new(v[0], v[1], v[2]);
+        let s2 = Sphere2::new(radius).unwrap();
+        let sc = SphereChart::new(radius).unwrap();
+        // Centred on the equator (a pole-centred oscillator drives the orbit into
+        // the chart singularity).
+        let osc = Oscillator::new(k, Centre::sphere2_at(&s2, &Vector3::new(radius, 0.0, 0.0)).unwrap()).unwrap();
+        refine("S2 point oscillator", |n| point_traj(sc.clone(), s2, m, osc, Vector2::new(th * radius, phi), Vector2::new(v[0], v[1]), n))?;
+        let pot = Sum::new(osc, Axial::<2, 3> { a: 0.3, b, radius, axis: 0 });
+        refine("S2 gyro oscillator + frame", |n| gyro2_traj(sc.clone(), s2, body, pot, Vector3::new(th * radius, phi, psi), vv, n))?;
+        let h2 = Hyperbolic2::new(radius).unwrap();
+        let hc = HyperbolicChart::new(radius).unwrap();
+        // No pole-centred oscillator here either: a tilt plus the frame term.
+        let pot = Axial::<2, 3> { a: k, b, radius, axis: 0 };
+        refine("H2 gyro tilt + frame", |n| gyro2_traj(hc.clone(), h2, body, pot, Vector3::new(th * radius * 0.7, phi, psi), vv, n))?;
+        let (bl, r) = (2.5 * radius, radius);
+        let t2 = Torus2::new(bl, r).unwrap();
+        let tc = TorusChart::new(bl, r).unwrap();
+        let pot = Axial::<2, 3> { a: k, b, radius: r, axis: 2 };
+        refine("T2 gyro axial + frame", |n| gyro2_traj(tc.clone(), t2, body, pot, Vector3::new(th * 2.0, phi, psi), vv, n))?;
+    }
+
+    #[test]
+    fn gyroscope3_trajectories_agree(
+        radius in 0.8..1.5f64, m in 0.7..1.5f64, lorentz in proptest::bool::ANY,
+        j in proptest::collection::vec(0.3..1.0f64, 3), b in -0.5..0.5f64,
+        x in proptest::collection::vec(-0.5..0.5f64, 6), v in proptest::collection::vec(-0.5..0.5f64, 6),
+    ) {
+        let body = Gyroscope::<3>::new(m, Matrix3::from_diagonal(&Vector3::new(j[0], j[1], j[2]))).unwrap()
+            .with_signature(sig(lorentz));
+        let mut q = SVector::<f64, 6>::from_column_slice(&x);
+        for i in 0..3 { q[i] *= radius; }
+        let vv = SVector::<f64, 6>::from_column_slice(&v);
+        let pot = Axial::<3, 4> { a: 0.2, b, radius, axis: 1 };
+        let sys = Gyroscope3::gyroscope(Sphere3Chart::new(radius).unwrap(), RotationVector, &body, pot);
+        let amb = ambient_state(&sys, &q, &vv).unwrap();
+        let pi = gyro3_spin(&sys.comoving(&q, &vv).unwrap());
+        let model = Gyroscope3Model::new(Sphere3::new(radius).unwrap(), body, pot).unwrap();
+        let y = model.state(&amb.position, &amb.velocity, &amb.frame, &pi).unwrap();
+        refine("S3 gyro axial + frame", |n| trajectory_diff(&sys, &model, y, q, vv, n, |y| (model.position(y), model.body_frame(y))))?;
+    }
+}
