@@ -1,0 +1,221 @@
+//! One-step methods on Lie groups: a method only advances one step; the
+//! driver in [`solve`](crate::solve) owns step-size control, output, events
+//! and failure handling.
+//!
+//! Problem: `ẏ = y·f(t, y)` on a Lie group ([`System`]). Every method here
+//! writes the solution near `y₀` as `y(t₀ + τ) = y₀·exp(θ(τ))`, for which
+//! `θ̇ = dexp⁻¹_{−θ} f(t₀ + τ, y₀·exp(θ))`, `θ(0) = 0` (the conventions of
+//! [`lie`](crate::lie)). Each step starts again from `θ = 0` at the new point
+//! ("rebasing"), so `θ` stays of size `h·|f|`.
+//!
+//! - [`Rkmk`]: the Runge–Kutta–Munthe-Kaas engine, one generic implementation
+//!   driven by the Butcher [`tableau`]s (Lie–Euler, Heun, Kutta 3, RK4 in its
+//!   two-commutator form, DOPRI5 with its embedded pair and dense output,
+//!   Butcher's order 6);
+//! - [`GroupNumerics`]: the `ad` spectral-radius bound and tolerance scale
+//!   each state group provides;
+//! - [`trees`]: rooted trees and order conditions for checking tableaux.
+//!
+//! Further methods (splittings, coordinate baselines) implement [`Method`]
+//! for the systems they can integrate. A classical Runge–Kutta method in
+//! coordinates is already [`Rkmk`] on the additive group [`Rn`](crate::lie::Rn)
+//! (brackets vanish, `exp` is the identity).
+
+pub mod group;
+pub mod rkmk;
+pub mod tableau;
+pub mod trees;
+
+pub use group::GroupNumerics;
+pub use rkmk::{DexpInv, Rkmk};
+pub use tableau::Tableau;
+
+use std::fmt::Debug;
+
+use crate::dynamics::System;
+use crate::lie::{AlgebraVector, LieGroup};
+use tableau::DENSE_DEGREE;
+
+/// The Lie algebra of the state group of `S`.
+pub type Alg<S> = <<S as System>::State as LieGroup>::Algebra;
+
+/// Static properties of a method.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MethodInfo {
+    /// Name, e.g. `"RKMK4"`.
+    pub name: &'static str,
+    /// Order `p` of the propagated solution.
+    pub order: u32,
+    /// Order `p̂` of the embedded solution (adaptive stepping), if any.
+    pub embedded_order: Option<u32>,
+    /// Order `q` of the dense output: its local error is `O(h^{q+1})`.
+    pub dense_order: u32,
+    /// Number of stages.
+    pub stages: usize,
+    /// Whether the last stage of a step is the first of the next.
+    pub fsal: bool,
+    /// The radius guard: largest accepted bound `ρ(ad_θ)` of any algebra
+    /// argument `θ` of a step (see [`GroupNumerics::ad_radius`]).
+    pub radius_limit: f64,
+}
+
+/// What the driver asks of a step besides the new state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepRequest<A> {
+    /// `f(t₀, y₀)` if already known (first-same-as-last, or a rejected step
+    /// retried from the same point); saves one evaluation.
+    pub f_start: Option<A>,
+    /// Return the embedded error estimate.
+    pub error: bool,
+    /// Return the dense-output polynomial of the step.
+    pub dense: bool,
+    /// Return `f(t₀ + h, y₁)` (to be passed as `f_start` of the next step).
+    pub f_end: bool,
+}
+
+impl<A> StepRequest<A> {
+    /// Only the new state.
+    pub fn plain() -> Self {
+        StepRequest { f_start: None, error: false, dense: false, f_end: false }
+    }
+}
+
+/// Work done by one step (fixed per method and request, so counting costs
+/// nothing in the inner loop).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct StepCost {
+    /// Evaluations of the vector field.
+    pub rhs: u32,
+    /// Group exponentials.
+    pub exps: u32,
+    /// Lie brackets (truncated `dexp⁻¹` series and commutator forms).
+    pub brackets: u32,
+    /// Closed-form `dexp⁻¹` evaluations.
+    pub dexp_inv: u32,
+}
+
+impl std::ops::AddAssign for StepCost {
+    fn add_assign(&mut self, o: Self) {
+        self.rhs += o.rhs;
+        self.exps += o.exps;
+        self.brackets += o.brackets;
+        self.dexp_inv += o.dexp_inv;
+    }
+}
+
+/// The dense output of one step in the algebra coordinate:
+/// `θ(σ) = Σ_{m=1}^{degree} coeffs[m−1] σᵐ`, `σ = (t − t₀)/h ∈ [0, 1]`, so that
+/// `y(t) ≈ y₀·exp(θ(σ))`; `θ(1)` is the step's increment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DensePoly<A> {
+    /// Coefficients of `σ¹ … σ^{DENSE_DEGREE}` (those above `degree` are zero).
+    pub coeffs: [A; DENSE_DEGREE],
+    /// Degree of the polynomial.
+    pub degree: usize,
+}
+
+impl<A: AlgebraVector> DensePoly<A> {
+    /// `θ(σ)` by Horner's rule.
+    #[inline]
+    pub fn theta(&self, sigma: f64) -> A {
+        let mut s = A::zero();
+        for m in (0..self.degree).rev() {
+            s = (s + self.coeffs[m]) * sigma;
+        }
+        s
+    }
+
+    /// `dθ/dσ` at `σ`.
+    pub fn theta_prime(&self, sigma: f64) -> A {
+        let mut s = A::zero();
+        for m in (0..self.degree).rev() {
+            s = s * sigma + self.coeffs[m] * (m + 1) as f64;
+        }
+        s
+    }
+}
+
+/// The result of one step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepOutput<G: LieGroup> {
+    /// The new state `y₁ = y₀·exp(Θ)`, renormalised onto the group.
+    pub y: G,
+    /// The increment `Θ`.
+    pub theta: G::Algebra,
+    /// `f(t₀, y₀)` (the first stage), for reuse after a rejection.
+    pub f_start: G::Algebra,
+    /// `f(t₀ + h, y₁)` if requested (or free, for FSAL methods).
+    pub f_end: Option<G::Algebra>,
+    /// The embedded error estimate `Θ − Θ̂ ∈ 𝔤`, if requested.
+    pub error: Option<G::Algebra>,
+    /// The dense output of the step, if requested.
+    pub dense: Option<DensePoly<G::Algebra>>,
+    /// Work done.
+    pub cost: StepCost,
+}
+
+/// Where a non-finite number appeared.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NonFiniteSource {
+    /// The vector field `f(t, y)` returned NaN or ±∞.
+    VectorField,
+    /// The new state (overflow in `exp` or the group product).
+    State,
+    /// The step increment `Θ` or the error estimate.
+    Increment,
+    /// An event function.
+    Event,
+}
+
+impl std::fmt::Display for NonFiniteSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            NonFiniteSource::VectorField => "vector field",
+            NonFiniteSource::State => "state",
+            NonFiniteSource::Increment => "step increment",
+            NonFiniteSource::Event => "event function",
+        })
+    }
+}
+
+/// Why a step could not be completed (the driver adds the step's `t`, `h`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StepFault {
+    /// A non-finite value, first seen at time `t_eval`.
+    NonFinite {
+        /// What was not finite.
+        source: NonFiniteSource,
+        /// The time at which it was evaluated.
+        t_eval: f64,
+    },
+    /// An algebra argument exceeded the `dexp⁻¹` radius guard.
+    DexpRadius {
+        /// The bound `ρ(ad_θ)` found.
+        radius: f64,
+        /// The guard.
+        limit: f64,
+        /// Work done before the step was abandoned (an adaptive driver
+        /// retries with a smaller step and counts it).
+        cost: StepCost,
+    },
+}
+
+/// A one-step method for the systems `S`.
+///
+/// Implementations must be pure functions of their arguments (no interior
+/// state), so that a rejected step can be retried and the same method value
+/// can drive several solves.
+pub trait Method<S: System>: Clone + Debug {
+    /// Static properties.
+    fn info(&self) -> MethodInfo;
+
+    /// Advances `y₀` at `t` by `h` (which may be negative).
+    fn step(
+        &self,
+        system: &S,
+        t: f64,
+        y0: &S::State,
+        h: f64,
+        request: StepRequest<Alg<S>>,
+    ) -> Result<StepOutput<S::State>, StepFault>;
+}

@@ -1,0 +1,399 @@
+//! The Runge–Kutta–Munthe-Kaas engine: one generic implementation for every
+//! explicit [`Tableau`].
+//!
+//! For `ẏ = y·f(t, y)` and a tableau `(A, b, c)` with `S` stages, one step from
+//! `(t₀, y₀)` reads \[MK98\], \[MK99\], \[IMNZ00\]:
+//!
+//! ```text
+//! θᵢ = h Σⱼ aᵢⱼ Kⱼ,                 Fᵢ = f(t₀ + cᵢh, y₀·exp(θᵢ)),
+//! Kᵢ = dexp⁻¹_{−θᵢ} Fᵢ  (truncated), Θ = h Σᵢ bᵢ Kᵢ,     y₁ = y₀·exp(Θ),
+//! ```
+//!
+//! i.e. the classical method applied to `θ̇ = dexp⁻¹_{−θ} f(t, y₀·exp θ)`.
+//! With `dexp⁻¹_{−θ} v = v + ½[θ, v] + (1/12)[θ, [θ, v]] − …` truncated after
+//! `ad^{q−2}` the method keeps the classical order `q` \[MK99\]: the dropped
+//! `ad^k_θ f` terms are `O(h^{k+1})` at stage level and their leading parts
+//! `ad^k_{hf₀} f₀` vanish. Truncating one term earlier lowers the order (the
+//! test suite measures this). The new state is renormalised onto the group
+//! after every step ([`LieGroup::renormalize`]), and every step starts from
+//! `θ = 0` at `y₁` (rebasing).
+//!
+//! Stage arrays live on the stack (`[𝔤; S]`, `S` a const generic), the
+//! tableau is `'static` data, and no trait objects are involved: a step
+//! allocates nothing.
+//!
+//! \[MK98\] H. Munthe-Kaas, *Runge–Kutta methods on Lie groups*, BIT 38 (1998)
+//! 92–111. \[MK99\] H. Munthe-Kaas, *High order Runge–Kutta methods on
+//! manifolds*, Appl. Numer. Math. 29 (1999) 115–127. \[IMNZ00\] A. Iserles,
+//! H. Z. Munthe-Kaas, S. P. Nørsett, A. Zanna, *Lie-group methods*, Acta
+//! Numerica 9 (2000) 215–365.
+
+use super::group::GroupNumerics;
+use super::tableau::{self, BracketForm, Tableau, DENSE_DEGREE};
+use super::{Alg, DensePoly, Method, MethodInfo, NonFiniteSource, StepCost, StepFault, StepOutput, StepRequest};
+use crate::dynamics::System;
+use crate::lie::{dexp_inv_series, AlgebraVector, LieGroup};
+use crate::solve::SolveError;
+
+/// How the stages apply `dexp⁻¹`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum DexpInv {
+    /// The method's economical exact-order choice: its commutator form
+    /// ([`Tableau::brackets`], RK4: two commutators per step) if it has one,
+    /// otherwise the series truncated after `ad^{q−2}` (`q` the order; since
+    /// the odd Bernoulli numbers beyond `B₁` vanish, an odd `q − 2 ≥ 3` is
+    /// lowered by one at no loss).
+    #[default]
+    Auto,
+    /// The Bernoulli series truncated after `ad^m`
+    /// ([`dexp_inv_series`], `m ≤ 20`); `m < q − 2` lowers the order.
+    Series(usize),
+    /// The group's closed form [`LieGroup::dexp_inv`] (exact).
+    ClosedForm,
+}
+
+/// The resolved `dexp⁻¹` treatment of a step.
+#[derive(Debug, Clone, Copy)]
+enum Correction {
+    Brackets(&'static BracketForm),
+    Series(usize),
+    Closed,
+}
+
+/// Default radius guard: `ρ(ad_θ) ≤ π`, half the convergence radius `2π` of
+/// the Bernoulli series of `dexp⁻¹`.
+pub const DEFAULT_RADIUS_LIMIT: f64 = std::f64::consts::PI;
+
+/// A Runge–Kutta–Munthe-Kaas method with `S` stages.
+///
+/// ```
+/// use framedyn::method::Rkmk;
+/// let rk4 = Rkmk::rk4();                 // two-commutator RKMK4
+/// let dp5 = Rkmk::dopri5();              // DOPRI5(4), adaptive + dense
+/// # let _ = (rk4, dp5);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rkmk<const S: usize> {
+    tableau: &'static Tableau<S>,
+    dexp_inv: DexpInv,
+    radius_limit: f64,
+}
+
+impl Rkmk<1> {
+    /// Lie–Euler, order 1 ([`tableau::LIE_EULER`]).
+    pub const fn lie_euler() -> Self {
+        Self::new(&tableau::LIE_EULER)
+    }
+}
+
+impl Rkmk<2> {
+    /// RKMK2 on Heun's method, order 2 ([`tableau::HEUN`]; no `dexp⁻¹`
+    /// correction is needed at order 2).
+    pub const fn heun() -> Self {
+        Self::new(&tableau::HEUN)
+    }
+}
+
+impl Rkmk<3> {
+    /// RKMK3 on Kutta's third-order method ([`tableau::KUTTA3`]), one
+    /// commutator per stage (`dexp⁻¹ ≈ I + ½ad_θ`).
+    pub const fn kutta3() -> Self {
+        Self::new(&tableau::KUTTA3)
+    }
+}
+
+impl Rkmk<4> {
+    /// RKMK4 on the classical RK4 ([`tableau::RK4`]), by default in the
+    /// two-commutator form [`tableau::RK4_BRACKETS`].
+    pub const fn rk4() -> Self {
+        Self::new(&tableau::RK4)
+    }
+}
+
+impl Rkmk<7> {
+    /// RKMK5 on Dormand–Prince 5(4) ([`tableau::DOPRI5`]): order 5, embedded
+    /// order 4 for adaptive stepping, dense output of order 4, FSAL.
+    pub const fn dopri5() -> Self {
+        Self::new(&tableau::DOPRI5)
+    }
+
+    /// RKMK6 on Butcher's seven-stage sixth-order method
+    /// ([`tableau::BUTCHER6`]), `dexp⁻¹` to `ad⁴`.
+    pub const fn butcher6() -> Self {
+        Self::new(&tableau::BUTCHER6)
+    }
+}
+
+impl<const S: usize> Rkmk<S> {
+    /// The RKMK method of `tableau`, with [`DexpInv::Auto`] and the radius
+    /// guard [`DEFAULT_RADIUS_LIMIT`].
+    pub const fn new(tableau: &'static Tableau<S>) -> Self {
+        Rkmk { tableau, dexp_inv: DexpInv::Auto, radius_limit: DEFAULT_RADIUS_LIMIT }
+    }
+
+    /// The same method with another `dexp⁻¹` treatment.
+    pub const fn with_dexp_inv(mut self, mode: DexpInv) -> Self {
+        self.dexp_inv = mode;
+        self
+    }
+
+    /// The same method with another radius guard `limit` (finite, `0 < limit < 2π`):
+    /// a step fails with [`StepFault::DexpRadius`] if some algebra argument
+    /// `θ` has `ρ(ad_θ) > limit`.
+    pub fn with_radius_limit(mut self, limit: f64) -> Result<Self, SolveError> {
+        if !(limit > 0.0 && limit < std::f64::consts::TAU) {
+            return Err(SolveError::InvalidParameter {
+                field: "radius_limit",
+                value: limit,
+                allowed: "in (0, 2π)",
+            });
+        }
+        self.radius_limit = limit;
+        Ok(self)
+    }
+
+    /// The tableau.
+    pub const fn tableau(&self) -> &'static Tableau<S> {
+        self.tableau
+    }
+
+    /// The `dexp⁻¹` treatment.
+    pub const fn dexp_inv(&self) -> DexpInv {
+        self.dexp_inv
+    }
+
+    fn correction(&self) -> Correction {
+        match self.dexp_inv {
+            DexpInv::Auto => match &self.tableau.brackets {
+                Some(form) => Correction::Brackets(form),
+                None => {
+                    let d = (self.tableau.order as usize).saturating_sub(2);
+                    Correction::Series(if d >= 3 && d % 2 == 1 { d - 1 } else { d })
+                }
+            },
+            DexpInv::Series(m) => Correction::Series(m.min(20)),
+            DexpInv::ClosedForm => Correction::Closed,
+        }
+    }
+
+    /// Order of the dense output: the tableau's continuous extension, else
+    /// the cubic Hermite interpolant in `θ` (local error `O(h^{min(p,3)+1})`).
+    fn dense_order(&self) -> u32 {
+        match &self.tableau.dense {
+            Some(d) => d.order,
+            None => self.tableau.order.min(3),
+        }
+    }
+}
+
+/// `dexp⁻¹_{−θ} f` as the correction asks (identity for the commutator form).
+#[inline(always)]
+fn correct<G: LieGroup>(c: Correction, theta: &G::Algebra, f: &G::Algebra, cost: &mut StepCost) -> G::Algebra {
+    match c {
+        Correction::Brackets(_) | Correction::Series(0) => *f,
+        Correction::Series(m) => {
+            cost.brackets += m as u32;
+            dexp_inv_series::<G>(&(-*theta), f, m)
+        }
+        Correction::Closed => {
+            cost.dexp_inv += 1;
+            G::dexp_inv(&(-*theta), f)
+        }
+    }
+}
+
+#[inline(always)]
+fn guard<G: GroupNumerics>(theta: &G::Algebra, limit: f64, t_eval: f64, done: StepCost) -> Result<(), StepFault> {
+    let r = G::ad_radius(theta);
+    if r <= limit {
+        Ok(())
+    } else if r.is_nan() {
+        Err(StepFault::NonFinite { source: NonFiniteSource::Increment, t_eval })
+    } else {
+        Err(StepFault::DexpRadius { radius: r, limit, cost: done })
+    }
+}
+
+/// `h Σⱼ wⱼ kⱼ` over the non-zero weights (no multiplications by zero, no
+/// explicit zero element unless every weight vanishes).
+#[inline(always)]
+fn combine<A: AlgebraVector>(k: &[A], w: &[f64], h: f64) -> A {
+    let mut acc: Option<A> = None;
+    for (kj, &wj) in k.iter().zip(w) {
+        if wj != 0.0 {
+            let term = *kj * (h * wj);
+            acc = Some(match acc {
+                Some(a) => a + term,
+                None => term,
+            });
+        }
+    }
+    acc.unwrap_or_else(A::zero)
+}
+
+#[inline(always)]
+fn eval<Sys: System>(sys: &Sys, t: f64, y: &Sys::State) -> Result<Alg<Sys>, StepFault> {
+    let f = sys.vector_field(t, y);
+    if f.is_finite() {
+        Ok(f)
+    } else {
+        Err(StepFault::NonFinite { source: NonFiniteSource::VectorField, t_eval: t })
+    }
+}
+
+impl<Sys: System, const S: usize> Method<Sys> for Rkmk<S>
+where
+    Sys::State: GroupNumerics,
+{
+    fn info(&self) -> MethodInfo {
+        MethodInfo {
+            name: self.tableau.name,
+            order: self.tableau.order,
+            embedded_order: self.tableau.embedded.map(|e| e.order),
+            dense_order: self.dense_order(),
+            stages: S,
+            fsal: self.tableau.is_fsal()
+                && !matches!(self.correction(), Correction::Brackets(f) if !f.output.is_empty()),
+            radius_limit: self.radius_limit,
+        }
+    }
+
+    fn step(
+        &self,
+        sys: &Sys,
+        t: f64,
+        y0: &Sys::State,
+        h: f64,
+        req: StepRequest<Alg<Sys>>,
+    ) -> Result<StepOutput<Sys::State>, StepFault> {
+        type G<Sys> = <Sys as System>::State;
+        let tab = self.tableau;
+        let corr = self.correction();
+        // The last stage is at the new state only if Θ = θ_S, i.e. no output
+        // commutators are added to Θ.
+        let fsal = tab.is_fsal() && !matches!(corr, Correction::Brackets(f) if !f.output.is_empty());
+        let native_dense = req.dense && tab.dense.is_some();
+        let want_f_end = req.f_end || (req.dense && tab.dense.is_none());
+        let n = if req.error || native_dense || (fsal && want_f_end) { S } else { tab.solution_stages() };
+        let mut cost = StepCost::default();
+
+        // Stage 1: θ₁ = 0, K₁ = f(t₀, y₀).
+        let k0 = match req.f_start {
+            Some(f) => f,
+            None => {
+                cost.rhs += 1;
+                eval(sys, t, y0)?
+            }
+        };
+        let mut k = [k0; S];
+        let mut last_stage_state: Option<G<Sys>> = None;
+        let mut fsal_raw: Option<Alg<Sys>> = None;
+        for i in 1..n {
+            // θᵢ = h Σⱼ aᵢⱼ Kⱼ.
+            let mut th = combine(&k[..i], &tab.a[i][..i], h);
+            if let Correction::Brackets(form) = corr {
+                for (stage, term) in form.stages {
+                    if *stage == i {
+                        cost.brackets += 1;
+                        th = th + G::<Sys>::bracket(&k[term.left], &k[term.right]) * (h * h * term.coeff);
+                    }
+                }
+            }
+            guard::<G<Sys>>(&th, self.radius_limit, t + tab.c[i] * h, cost)?;
+            let yi = y0.compose(&G::<Sys>::exp(&th));
+            cost.exps += 1;
+            cost.rhs += 1;
+            let f = eval(sys, t + tab.c[i] * h, &yi)?;
+            k[i] = correct::<G<Sys>>(corr, &th, &f, &mut cost);
+            if fsal && i == S - 1 {
+                // θ_S = h Σ a_Sj K_j = Θ (a_S = b): y₀·exp(θ_S) is the new state
+                // before renormalisation and F_S = f(t₁, y₁) starts the next step.
+                last_stage_state = Some(yi);
+                fsal_raw = Some(f);
+            }
+        }
+
+        // Θ = h Σ bᵢ Kᵢ (+ output commutators).
+        let mut theta = combine(&k[..n], &tab.b[..n], h);
+        if let Correction::Brackets(form) = corr {
+            for term in form.output {
+                cost.brackets += 1;
+                theta = theta + G::<Sys>::bracket(&k[term.left], &k[term.right]) * (h * h * term.coeff);
+            }
+        }
+        if !theta.is_finite() {
+            return Err(StepFault::NonFinite { source: NonFiniteSource::Increment, t_eval: t + h });
+        }
+        guard::<G<Sys>>(&theta, self.radius_limit, t + h, cost)?;
+        let unnormalised = match last_stage_state {
+            Some(y) => y,
+            None => {
+                cost.exps += 1;
+                y0.compose(&G::<Sys>::exp(&theta))
+            }
+        };
+        let y1 = unnormalised.renormalize();
+        if !y1.is_finite() {
+            return Err(StepFault::NonFinite { source: NonFiniteSource::State, t_eval: t + h });
+        }
+
+        let error = match (&tab.embedded, req.error) {
+            (Some(e), true) => {
+                let mut w = [0.0; S];
+                for (i, wi) in w.iter_mut().enumerate() {
+                    *wi = tab.b[i] - e.b_hat[i];
+                }
+                Some(combine(&k, &w, h))
+            }
+            _ => None,
+        };
+
+        let f_end = if want_f_end {
+            match fsal_raw {
+                Some(f) => Some(f),
+                None => {
+                    cost.rhs += 1;
+                    Some(eval(sys, t + h, &y1)?)
+                }
+            }
+        } else {
+            fsal_raw
+        };
+
+        let dense = if !req.dense {
+            None
+        } else if let Some(dw) = &tab.dense {
+            let mut coeffs = [Alg::<Sys>::zero(); DENSE_DEGREE];
+            let mut degree = 0;
+            for (m, c) in coeffs.iter_mut().enumerate() {
+                if dw.coeffs[m].iter().any(|&w| w != 0.0) {
+                    *c = combine(&k, &dw.coeffs[m], h);
+                    degree = m + 1;
+                }
+            }
+            Some(DensePoly { coeffs, degree })
+        } else {
+            // Cubic Hermite in θ: θ(0) = 0, θ'(0) = h K₁, θ(1) = Θ,
+            // θ'(1) = h dexp⁻¹_{−Θ} f(t₁, y₁).
+            let f1 = f_end.unwrap_or_else(Alg::<Sys>::zero);
+            let s1 = match corr {
+                Correction::Closed => {
+                    cost.dexp_inv += 1;
+                    G::<Sys>::dexp_inv(&(-theta), &f1)
+                }
+                _ => {
+                    cost.brackets += 2;
+                    dexp_inv_series::<G<Sys>>(&(-theta), &f1, 2)
+                }
+            };
+            let (d0, d1) = (k[0] * h, s1 * h);
+            let mut coeffs = [Alg::<Sys>::zero(); DENSE_DEGREE];
+            coeffs[0] = d0;
+            coeffs[1] = theta * 3.0 - d0 * 2.0 - d1;
+            coeffs[2] = d0 + d1 - theta * 2.0;
+            Some(DensePoly { coeffs, degree: 3 })
+        };
+
+        Ok(StepOutput { y: y1, theta, f_start: k[0], f_end, error, dense, cost })
+    }
+}

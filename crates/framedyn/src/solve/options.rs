@@ -1,0 +1,269 @@
+//! Options of a solve: step-size policy, tolerances, output, recorded
+//! invariants and events.
+
+use std::fmt;
+
+use super::event::Event;
+use crate::lie::LieGroup;
+
+/// How steps are chosen.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StepSize {
+    /// `n = ⌈|t_end − t₀|/h⌉` equal steps (so `h` is an upper bound; the
+    /// interval is split exactly, the last step lands on `t_end`). Step times
+    /// are computed as `t₀ + (t_end − t₀)·i/n`, without accumulation.
+    Fixed(f64),
+    /// Error-controlled steps with an embedded pair.
+    Adaptive(Adaptive),
+}
+
+/// A tolerance: one value for every component, or one per stored algebra
+/// component (`AlgebraVector::LEN` values, in the order of
+/// [`AlgebraVector::get`](crate::lie::AlgebraVector::get)).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Tol {
+    /// The same value for every component.
+    Scalar(f64),
+    /// One value per stored component.
+    PerComponent(Vec<f64>),
+}
+
+impl From<f64> for Tol {
+    fn from(v: f64) -> Self {
+        Tol::Scalar(v)
+    }
+}
+
+/// Step-size controller (\[HNW93\] §II.4; PI form after Gustafsson, as in the
+/// code DOPRI5).
+///
+/// With the error norm `err` of a step (accept iff `err ≤ 1`), `k = 1/(q+1)`,
+/// `q = min(p, p̂)` the lower order of the pair, and `α = k − 0.75β`:
+/// - accepted: `h_new = h·clamp(safety·err^{−α}·err_prev^{β}, fac_min, fac_max)`
+///   (`err_prev` the previous accepted error, ≥ 10⁻⁴); after a rejection the
+///   factor is capped at 1;
+/// - rejected: `h_new = h·max(fac_min, safety·err^{−α})`.
+///
+/// `β = 0` is the classical (integral, I) controller `h·(safety/err)^{1/(q+1)}`.
+///
+/// \[HNW93\] E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary
+/// Differential Equations I*, 2nd ed., Springer 1993.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Controller {
+    /// PI gain `β ∈ [0, 0.2]` (0: I controller).
+    pub beta: f64,
+    /// Safety factor in `(0, 1]`.
+    pub safety: f64,
+    /// Smallest step-size factor, in `(0, 1]`.
+    pub fac_min: f64,
+    /// Largest step-size factor, `≥ 1`.
+    pub fac_max: f64,
+}
+
+impl Controller {
+    /// The I controller: `β = 0`, safety 0.9, factors in `[0.2, 10]`.
+    pub const fn integral() -> Self {
+        Controller { beta: 0.0, safety: 0.9, fac_min: 0.2, fac_max: 10.0 }
+    }
+
+    /// The PI controller of DOPRI5: `β = 0.04`, safety 0.9, factors in `[0.2, 10]`.
+    pub const fn pi() -> Self {
+        Controller { beta: 0.04, safety: 0.9, fac_min: 0.2, fac_max: 10.0 }
+    }
+}
+
+impl Default for Controller {
+    fn default() -> Self {
+        Controller::pi()
+    }
+}
+
+/// Adaptive stepping with an embedded pair.
+///
+/// **Error norm.** A step's error estimate is `e = Θ − Θ̂ ∈ 𝔤`, the
+/// difference of the algebra increments of the two solutions (left
+/// trivialised: `y₀·exp(Θ̂) ≈ y₀·exp(Θ)·exp(−e)`). With the reference
+/// magnitudes `sᵢ(y)` of [`GroupNumerics::tolerance_scale`](crate::method::GroupNumerics::tolerance_scale)
+/// — `|yᵢ|` for the coordinates of additive factors ℝᵏ (momenta,
+/// velocities, angles), 1 for every other factor, where `e` is a relative
+/// error of the group element (a rotation angle on SO(n)) — the
+/// per-component scale is
+/// `scᵢ = atolᵢ + rtolᵢ·max(sᵢ(y₀), sᵢ(y₁))`
+/// and `err = √(Σᵢ (eᵢ/scᵢ)²/LEN)` over the `LEN` stored components. A step
+/// is accepted iff `err ≤ 1`. So `atol` is an absolute error in algebra
+/// coordinates and `rtol` an error relative to the size of additive
+/// coordinates and relative to the group element otherwise. The DOPRI5 pair
+/// propagates the fifth-order solution (local extrapolation), so the
+/// actual local error is usually well below the estimate.
+///
+/// **Minimum step.** A step smaller than `max(h_min, 16ε|t|)` (other than a
+/// final step that reaches `t_end`) is a
+/// [`StepSizeTooSmall`](super::SolveError::StepSizeTooSmall) error, never a
+/// silent acceptance.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Adaptive {
+    /// Relative tolerance(s), `≥ 0`.
+    pub rtol: Tol,
+    /// Absolute tolerance(s), `≥ 0`; `atolᵢ + rtolᵢ > 0` for every component.
+    pub atol: Tol,
+    /// First step `|h₀|`; `None` selects it as in \[HNW93\] §II.4 (with an
+    /// explicit Lie–Euler trial step, and `|h₀|·ρ(ad f₀)` at most half the
+    /// radius guard).
+    pub h0: Option<f64>,
+    /// Smallest allowed `|h|` (the effective minimum is `max(h_min, 16ε|t|)`).
+    pub h_min: f64,
+    /// Largest allowed `|h|` (`∞`: the span).
+    pub h_max: f64,
+    /// The controller.
+    pub controller: Controller,
+}
+
+impl Adaptive {
+    /// Scalar tolerances, automatic first step, `h_min = 0`, `h_max = ∞`,
+    /// PI controller.
+    pub fn new(rtol: f64, atol: f64) -> Self {
+        Adaptive {
+            rtol: Tol::Scalar(rtol),
+            atol: Tol::Scalar(atol),
+            h0: None,
+            h_min: 0.0,
+            h_max: f64::INFINITY,
+            controller: Controller::default(),
+        }
+    }
+}
+
+/// Which states the solution keeps.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Save {
+    /// `t₀` and the end of every accepted step.
+    Steps,
+    /// Exactly the given times (sorted into the direction of integration;
+    /// each within the span), from the dense output — independent of the
+    /// steps taken.
+    At(Vec<f64>),
+    /// `t₀` and the final time only.
+    Ends,
+}
+
+/// A recorded scalar `q(t, y)`.
+pub type ObserverFn<G> = dyn Fn(f64, &G) -> f64 + Send + Sync;
+
+/// Options of [`solve`](super::solve). Built from [`Options::fixed`] or
+/// [`Options::adaptive`] and the builder methods.
+pub struct Options<G: LieGroup> {
+    pub(crate) step: StepSize,
+    pub(crate) save: Save,
+    pub(crate) dense: bool,
+    pub(crate) max_steps: usize,
+    pub(crate) energy: bool,
+    pub(crate) defect: bool,
+    pub(crate) observers: Vec<(String, Box<ObserverFn<G>>)>,
+    pub(crate) events: Vec<Event<G>>,
+    pub(crate) event_xtol: f64,
+}
+
+impl<G: LieGroup> fmt::Debug for Options<G> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Options")
+            .field("step", &self.step)
+            .field("save", &self.save)
+            .field("dense", &self.dense)
+            .field("max_steps", &self.max_steps)
+            .field("energy", &self.energy)
+            .field("defect", &self.defect)
+            .field("observers", &self.observers.iter().map(|o| &o.0).collect::<Vec<_>>())
+            .field("events", &self.events)
+            .field("event_xtol", &self.event_xtol)
+            .finish()
+    }
+}
+
+/// Default limit on the number of accepted steps.
+pub const DEFAULT_MAX_STEPS: usize = 1_000_000;
+
+impl<G: LieGroup> Options<G> {
+    fn with_step(step: StepSize) -> Self {
+        Options {
+            step,
+            save: Save::Steps,
+            dense: false,
+            max_steps: DEFAULT_MAX_STEPS,
+            energy: false,
+            defect: false,
+            observers: Vec::new(),
+            events: Vec::new(),
+            event_xtol: 0.0,
+        }
+    }
+
+    /// Fixed steps of size at most `h` (see [`StepSize::Fixed`]).
+    pub fn fixed(h: f64) -> Self {
+        Self::with_step(StepSize::Fixed(h))
+    }
+
+    /// Adaptive steps with scalar tolerances (see [`Adaptive`]).
+    pub fn adaptive(rtol: f64, atol: f64) -> Self {
+        Self::with_step(StepSize::Adaptive(Adaptive::new(rtol, atol)))
+    }
+
+    /// Adaptive steps with full control.
+    pub fn adaptive_with(adaptive: Adaptive) -> Self {
+        Self::with_step(StepSize::Adaptive(adaptive))
+    }
+
+    /// Which states to keep (default [`Save::Steps`]).
+    pub fn save(mut self, save: Save) -> Self {
+        self.save = save;
+        self
+    }
+
+    /// Keep the dense output of every step (default: no).
+    pub fn dense(mut self, dense: bool) -> Self {
+        self.dense = dense;
+        self
+    }
+
+    /// Limit on the number of accepted steps (default [`DEFAULT_MAX_STEPS`]);
+    /// reaching it before `t_end` is a [`MaxSteps`](super::SolveError::MaxSteps) error.
+    pub fn max_steps(mut self, n: usize) -> Self {
+        self.max_steps = n;
+        self
+    }
+
+    /// Record [`System::energy`](crate::dynamics::System::energy) at the saved times, as `"energy"`.
+    pub fn record_energy(mut self) -> Self {
+        self.energy = true;
+        self
+    }
+
+    /// Record [`System::defect`](crate::dynamics::System::defect) at the saved times, as `"defect"`.
+    pub fn record_defect(mut self) -> Self {
+        self.defect = true;
+        self
+    }
+
+    /// Record `q(t, y)` at the saved times under `name`.
+    pub fn observe(mut self, name: impl Into<String>, q: impl Fn(f64, &G) -> f64 + Send + Sync + 'static) -> Self {
+        self.observers.push((name.into(), Box::new(q)));
+        self
+    }
+
+    /// Add an event.
+    pub fn event(mut self, event: Event<G>) -> Self {
+        self.events.push(event);
+        self
+    }
+
+    /// Absolute time tolerance of event location (default 0: to round-off,
+    /// `2ε|t|`).
+    pub fn event_tolerance(mut self, xtol: f64) -> Self {
+        self.event_xtol = xtol;
+        self
+    }
+
+    /// The step-size policy.
+    pub fn step_size(&self) -> &StepSize {
+        &self.step
+    }
+}
