@@ -10,6 +10,7 @@ mod crosscheck;
 mod dynamics_affine;
 mod dynamics_gyro;
 mod hyperbolic;
+mod integrators;
 mod matrix_groups;
 mod potentials;
 mod sphere;

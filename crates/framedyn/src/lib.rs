@@ -20,6 +20,9 @@
 //!   Lagrangians from (a52)/(a74) with Euler–Lagrange equations by automatic
 //!   differentiation — an independent cross-check of the frame-bundle form and
 //!   the baseline that shows where coordinates fail (poles);
+//! - [`method`], [`solve`]: Lie-group integrators (the RKMK family, an
+//!   adaptive embedded pair, dense output, events) and the problem → method →
+//!   solution driver;
 //! - [`potential`]: potentials `V(x, e)` written once, generic over dual
 //!   numbers, so forces and torques come by automatic differentiation.
 #![deny(missing_docs)]
@@ -32,6 +35,8 @@ pub mod dynamics;
 pub mod error;
 pub mod lie;
 pub mod manifold;
+pub mod method;
 pub mod potential;
+pub mod solve;
 
 pub use error::{Error, Result};
