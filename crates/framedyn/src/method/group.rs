@@ -4,12 +4,14 @@
 
 use nalgebra::SMatrix;
 
+use crate::dynamics::affine::{Additive, MatrixAlgebra};
 use crate::lie::{AlgebraVector, Co, Gl, LieGroup, Product, Rn, Sl, So12, So2, So3, So4, SoN, Su2};
 
 /// Numerical data of a state group used by the integrators.
 ///
-/// Implemented for every group of [`crate::lie`] and for their direct
-/// products. (Proposed for [`LieGroup`] itself, with these as defaults.)
+/// Implemented for every group of [`crate::lie`], for the additive momentum
+/// spaces [`Additive`] of the affine bodies, and for direct products.
+/// (Proposed for [`LieGroup`] itself, with these as defaults.)
 pub trait GroupNumerics: LieGroup {
     /// An upper bound of the spectral radius `ρ(ad_a)` of `ad_a = [a, ·]`.
     ///
@@ -247,6 +249,27 @@ impl<const K: usize> GroupNumerics for Rn<K> {
     #[inline]
     fn is_finite(&self) -> bool {
         all_finite(self.0.iter())
+    }
+}
+
+impl<G: MatrixAlgebra> GroupNumerics for Additive<G> {
+    /// 0: a vector space under addition.
+    #[inline]
+    fn ad_radius(_a: &Self::Algebra) -> f64 {
+        0.0
+    }
+    /// `|aᵢ|`: the stored components themselves (like [`Rn`]).
+    #[inline]
+    fn tolerance_scale(&self) -> Self::Algebra {
+        let mut s = self.0;
+        for i in 0..<Self::Algebra as AlgebraVector>::LEN {
+            s.set(i, self.0.get(i).abs());
+        }
+        s
+    }
+    #[inline]
+    fn is_finite(&self) -> bool {
+        self.0.is_finite()
     }
 }
 
