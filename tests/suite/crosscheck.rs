@@ -327,7 +327,9 @@ fn refine(what: &str, diff: impl Fn(usize) -> Traj) -> Result<(), TestCaseError>
     let mut seen = vec![format!("{d:e} at {n} steps")];
     while d > TRAJ_TOL && n < 8 * STEPS {
         n *= 2;
-        let d2 = diff(n).expect("the path stayed in the chart at fewer steps").0;
+        let Some((d2, _)) = diff(n) else {
+            return Err(TestCaseError::reject(format!("{what}: the coordinate path left the chart at {n} steps")));
+        };
         seen.push(format!("{d2:e} at {n}"));
         prop_assert!(d / d2 >= 10.0, "{what}: no fourth-order convergence: {}", seen.join(", "));
         d = d2;
@@ -384,9 +386,11 @@ proptest! {
         let osc = Oscillator::new(k, Centre::sphere2_at(&s2, &Vector3::new(radius, 0.0, 0.0)).unwrap()).unwrap();
         // Clearance: sin(r/R) on S² (poles), r/R on H² (origin); T² has none.
         let s2_clear = |q: &Vector2<f64>| (q[0] / radius).sin();
-        refine("S2 point oscillator", |n| point_traj(sc.clone(), s2, m, osc, Vector2::new(th * radius, phi), Vector2::new(v[0], v[1]), n, s2_clear))?;
+        // |φ| ≤ 1 keeps the start inside the oscillator's well (tan² is singular
+        // on the great circle x = 0, a quarter turn from the centre).
+        refine("S2 point oscillator", |n| point_traj(sc.clone(), s2, m, osc, Vector2::new(th * radius, phi / 3.0), Vector2::new(v[0], v[1]), n, s2_clear))?;
         let pot = Sum::new(osc, Axial::<2, 3> { a: 0.3, b, radius, axis: 0 });
-        refine("S2 gyro oscillator + frame", |n| gyro2_traj(sc.clone(), s2, body, pot, Vector3::new(th * radius, phi, psi), vv, n, |q| (q[0] / radius).sin()))?;
+        refine("S2 gyro oscillator + frame", |n| gyro2_traj(sc.clone(), s2, body, pot, Vector3::new(th * radius, phi / 3.0, psi), vv, n, |q| (q[0] / radius).sin()))?;
         let h2 = Hyperbolic2::new(radius).unwrap();
         let hc = HyperbolicChart::new(radius).unwrap();
         // No pole-centred oscillator here either: a tilt plus the frame term.
