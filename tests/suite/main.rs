@@ -16,5 +16,6 @@ mod potentials;
 mod sphere;
 mod sphere3;
 mod torus;
+mod validation;
 
 lie_law_suite!(rn3, framedyn::lie::Rn<3>, radius = 5.0, tol = 1e-14, fd_tol = 1e-9, product_radius = 5.0);
