@@ -5,7 +5,7 @@
 //! `cargo bench --bench step_cost` runs the criterion benches (statistics
 //! only, no plots) and then an interleaved ratio table: rounds alternating
 //! the baseline with each library step, so that load from other processes
-//! hits both alike; the median per-round ratio is printed and written to
+//! hits both alike (thread-CPU time); the median per-round ratio is printed and written to
 //! `docs/data/step_cost.csv`. `FRAMEDYN_RATIOS_ONLY=1` skips criterion.
 //!
 //! In test mode (`cargo test --all-targets`, no `--bench` argument)
@@ -19,7 +19,6 @@ mod common;
 
 use std::hint::black_box;
 use std::io::Write;
-use std::time::Instant;
 
 use common::*;
 use criterion::Criterion;
@@ -229,14 +228,24 @@ fn benches(c: &mut Criterion) {
 // Interleaved ratio table
 // ---------------------------------------------------------------------------
 
-/// Nanoseconds per call of `f` over `n` calls (wall clock; the rounds are
+/// Thread-CPU nanoseconds (`CLOCK_THREAD_CPUTIME_ID`): time the thread was
+/// descheduled by other processes on the shared machine is not counted.
+fn thread_ns() -> f64 {
+    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: clock_gettime writes one timespec through a valid pointer.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    assert_eq!(rc, 0, "clock_gettime failed");
+    ts.tv_sec as f64 * 1e9 + ts.tv_nsec as f64
+}
+
+/// Thread-CPU nanoseconds per call of `f` over `n` calls (the rounds are
 /// interleaved with the baseline, and medians of ratios are reported).
 fn ns_per(n: usize, mut f: impl FnMut()) -> f64 {
-    let t0 = Instant::now();
+    let t0 = thread_ns();
     for _ in 0..n {
         f();
     }
-    t0.elapsed().as_nanos() as f64 / n as f64
+    (thread_ns() - t0) / n as f64
 }
 
 fn median(v: &mut [f64]) -> f64 {
