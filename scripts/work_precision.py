@@ -357,9 +357,14 @@ def main():
     ap.add_argument("--quick", action="store_true", help="smoke run: T = 20 on S², fewer settings")
     ap.add_argument("--no-cargo", action="store_true", help="reuse docs/data/*.csv from a previous cargo run")
     ap.add_argument("--no-plots", action="store_true")
+    ap.add_argument("--out", default=None, help="data directory (default docs/data)")
+    ap.add_argument("--figs", default=None, help="chart directory (default docs/figures/performance)")
     ap.add_argument("--summary-only", action="store_true",
                     help="only print the tables of docs/performance.md from docs/data/*.csv")
     args = ap.parse_args()
+    global DATA, FIGS
+    DATA = os.path.abspath(args.out) if args.out else DATA
+    FIGS = os.path.abspath(args.figs) if args.figs else FIGS
     os.makedirs(DATA, exist_ok=True)
     if args.summary_only:
         if not args.no_plots:
