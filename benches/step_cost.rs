@@ -1,0 +1,343 @@
+//! Per-step cost of every RKMK method on each manifold × body, one
+//! right-hand-side evaluation per model, and a **fixed-size hand-specialised
+//! RKMK4 step of the S² gyroscope** as the baseline in the same run.
+//!
+//! `cargo bench --bench step_cost` runs the criterion benches (statistics
+//! only, no plots) and then an interleaved ratio table: rounds alternating
+//! the baseline with each library step, so that load from other processes
+//! hits both alike (thread-CPU time); the median per-round ratio is printed and written to
+//! `docs/data/step_cost.csv`. `FRAMEDYN_RATIOS_ONLY=1` skips criterion.
+//!
+//! In test mode (`cargo test --all-targets`, no `--bench` argument)
+//! criterion runs each bench once and the ratio table is skipped.
+//!
+//! Before timing, the hand-written step is checked against the library's
+//! RKMK4 step (same state after one step to 1e-13): the baseline computes
+//! the same thing.
+
+mod common;
+
+use std::hint::black_box;
+use std::io::Write;
+
+use common::*;
+use criterion::Criterion;
+use framedyn::dynamics::System;
+use framedyn::method::{GroupNumerics, Method, Rkmk, StepRequest};
+use nalgebra::{Matrix3, Vector2, Vector3};
+
+/// Step size of the benched steps.
+const H: f64 = 0.01;
+
+// ---------------------------------------------------------------------------
+// The hand-specialised baseline
+// ---------------------------------------------------------------------------
+
+/// State of the S² gyroscope: `Q = [n | q₁ | q₂] ∈ SO(3)`, the internal angle
+/// as `(cos α, sin α)`, velocity components `u` in the parallel frame, spin.
+#[derive(Debug, Clone, Copy)]
+struct Hand {
+    q: Matrix3<f64>,
+    cs: Vector2<f64>,
+    u: Vector2<f64>,
+    s: f64,
+}
+
+/// Its algebra: so(3) vector, α̇, (u̇, ṡ).
+#[derive(Debug, Clone, Copy)]
+struct HandAlg {
+    w: Vector3<f64>,
+    a: f64,
+    du: Vector2<f64>,
+    ds: f64,
+}
+
+impl HandAlg {
+    #[inline(always)]
+    fn lin(&self, c: f64) -> HandAlg {
+        HandAlg { w: self.w * c, a: self.a * c, du: self.du * c, ds: self.ds * c }
+    }
+    #[inline(always)]
+    fn add(&self, o: &HandAlg) -> HandAlg {
+        HandAlg { w: self.w + o.w, a: self.a + o.a, du: self.du + o.du, ds: self.ds + o.ds }
+    }
+    /// `[a, b]`: only the so(3) part is non-abelian.
+    #[inline(always)]
+    fn bracket(&self, o: &HandAlg) -> HandAlg {
+        HandAlg { w: self.w.cross(&o.w), a: 0.0, du: Vector2::zeros(), ds: 0.0 }
+    }
+}
+
+/// Parameters: `1/R`, `1/m`, `σ/I`, `β/R` of `V = β cos(r/R)` about the z axis.
+#[derive(Debug, Clone, Copy)]
+struct HandSys {
+    inv_r: f64,
+    inv_m: f64,
+    rate: f64,
+    grad: f64,
+}
+
+impl HandSys {
+    /// `f(y)`: horizontal lift `(0, −u₂/R, u₁/R)`, `α̇ = s/I`,
+    /// `u̇ = (F̂ + K s ε u)/m` with `F̂ = −(β/R) (q₁_z, q₂_z)`, `ṡ = 0`.
+    #[inline(always)]
+    fn f(&self, y: &Hand) -> HandAlg {
+        let ks = self.inv_r * self.inv_r * y.s;
+        let f = Vector2::new(-self.grad * y.q[(2, 1)], -self.grad * y.q[(2, 2)]);
+        HandAlg {
+            w: Vector3::new(0.0, -y.u[1] * self.inv_r, y.u[0] * self.inv_r),
+            a: self.rate * y.s,
+            du: Vector2::new(f[0] - ks * y.u[1], f[1] + ks * y.u[0]) * self.inv_m,
+            ds: 0.0,
+        }
+    }
+}
+
+/// `y·exp(θ)` (Rodrigues with a series near 0).
+#[inline(always)]
+fn compose_exp(y: &Hand, t: &HandAlg) -> Hand {
+    let s2 = t.w.norm_squared();
+    let (a, b) = if s2 < 1e-6 {
+        (1.0 - s2 / 6.0 * (1.0 - s2 / 20.0), 0.5 - s2 / 24.0 * (1.0 - s2 / 30.0))
+    } else {
+        let th = s2.sqrt();
+        (th.sin() / th, (1.0 - th.cos()) / s2)
+    };
+    let k = Matrix3::new(0.0, -t.w[2], t.w[1], t.w[2], 0.0, -t.w[0], -t.w[1], t.w[0], 0.0);
+    let e = Matrix3::identity() + k * a + k * k * b;
+    let (c, s) = (t.a.cos(), t.a.sin());
+    Hand {
+        q: y.q * e,
+        cs: Vector2::new(y.cs[0] * c - y.cs[1] * s, y.cs[1] * c + y.cs[0] * s),
+        u: y.u + t.du,
+        s: y.s + t.ds,
+    }
+}
+
+/// One two-commutator RKMK4 step (the library's tableau: `θ₃ += h²/8 [k₁, k₂]`,
+/// `Θ += h²/12 [k₁, k₄]`), renormalised by one Newton–Schulz step on `Q`
+/// and normalising `(cos α, sin α)`.
+#[inline(always)]
+fn hand_rkmk4(sys: &HandSys, y: &Hand, h: f64) -> Hand {
+    let k1 = sys.f(y);
+    let k2 = sys.f(&compose_exp(y, &k1.lin(0.5 * h)));
+    let t3 = k2.lin(0.5 * h).add(&k1.bracket(&k2).lin(h * h / 8.0));
+    let k3 = sys.f(&compose_exp(y, &t3));
+    let k4 = sys.f(&compose_exp(y, &k3.lin(h)));
+    let th = k1.add(&k2.lin(2.0)).add(&k3.lin(2.0)).add(&k4).lin(h / 6.0).add(&k1.bracket(&k4).lin(h * h / 12.0));
+    let mut y1 = compose_exp(y, &th);
+    let d = y1.q.transpose() * y1.q - Matrix3::identity();
+    y1.q -= y1.q * d * 0.5;
+    y1.cs /= y1.cs.norm();
+    y1
+}
+
+/// The hand state and parameters of the library's S² reference state.
+fn hand_of(r: &Reference<S2Gyro>) -> (HandSys, Hand) {
+    let m = &r.system;
+    let y = &r.y0;
+    let radius = S2_RADIUS;
+    let sys = HandSys {
+        inv_r: 1.0 / radius,
+        inv_m: 1.0 / S2_MASS,
+        rate: 1.0 / m.moment_of_inertia(),
+        grad: S2_A / radius,
+    };
+    let hand = Hand {
+        q: *y.0 .0.matrix(),
+        cs: Vector2::new(y.0 .1.cos(), y.0 .1.sin()),
+        u: Vector2::new(y.1 .0[0], y.1 .0[1]),
+        s: y.1 .0[2],
+    };
+    (sys, hand)
+}
+
+/// The baseline computes the library's RKMK4 step: compares after 10 steps.
+fn check_hand(r: &Reference<S2Gyro>) {
+    let (hs, mut hy) = hand_of(r);
+    let mut y = r.y0;
+    let m = Rkmk::rk4();
+    for _ in 0..10 {
+        hy = hand_rkmk4(&hs, &hy, H);
+        y = m.step(&r.system, 0.0, &y, H, StepRequest::plain()).expect("step").y;
+    }
+    let dq = (hy.q - y.0 .0.matrix()).amax();
+    let da = (hy.cs - Vector2::new(y.0 .1.cos(), y.0 .1.sin())).amax();
+    let du = (hy.u - Vector2::new(y.1 .0[0], y.1 .0[1])).amax().max((hy.s - y.1 .0[2]).abs());
+    let err = dq.max(da).max(du);
+    assert!(err <= 1e-13, "hand-written RKMK4 differs from the library's by {err:e}");
+}
+
+// ---------------------------------------------------------------------------
+// Benches
+// ---------------------------------------------------------------------------
+
+/// Runs `$body` with `$name`, `$m` bound to each RKMK method benched per
+/// step (plain steps: no error estimate). The methods are different types
+/// (`Rkmk<STAGES>`), hence a macro. Add further `Method` types here.
+macro_rules! each_method {
+    ($name:ident, $m:ident, $body:block) => {{
+        { let ($name, $m) = ("lie_euler", Rkmk::lie_euler()); $body }
+        { let ($name, $m) = ("heun", Rkmk::heun()); $body }
+        { let ($name, $m) = ("kutta3", Rkmk::kutta3()); $body }
+        { let ($name, $m) = ("rkmk4", Rkmk::rk4()); $body }
+        { let ($name, $m) = ("dopri5", Rkmk::dopri5()); $body }
+        { let ($name, $m) = ("butcher6", Rkmk::butcher6()); $body }
+    }};
+}
+
+fn bench_system<S>(c: &mut Criterion, group: &str, sys: &S, y0: S::State)
+where
+    S: System,
+    S::State: GroupNumerics,
+{
+    let mut g = c.benchmark_group(group);
+    g.bench_function("rhs", |b| b.iter(|| black_box(sys.vector_field(0.0, black_box(&y0)))));
+    each_method!(name, m, {
+        g.bench_function(name, |b| {
+            b.iter(|| black_box(m.step(sys, 0.0, black_box(&y0), H, StepRequest::plain()).map(|o| o.y).ok()))
+        });
+    });
+    g.finish();
+}
+
+fn benches(c: &mut Criterion) {
+    let r = s2_gyro();
+    check_hand(&r);
+    let (hs, hy) = hand_of(&r);
+    c.bench_function("s2_gyroscope/hand_rkmk4", |b| b.iter(|| black_box(hand_rkmk4(&hs, black_box(&hy), H))));
+    c.bench_function("s2_gyroscope/hand_rhs", |b| b.iter(|| black_box(hs.f(black_box(&hy)))));
+    bench_system(c, "s2_gyroscope", &r.system, r.y0);
+    let (p, y) = s2_point();
+    bench_system(c, "s2_point", &p, y);
+    let r = h2_gyro();
+    bench_system(c, "h2_gyroscope", &r.system, r.y0);
+    let r = h2_lorentz();
+    bench_system(c, "h2_lorentz", &r.system, r.y0);
+    let r = t2_gyro();
+    bench_system(c, "t2_gyroscope", &r.system, r.y0);
+    let r = s3_gyro();
+    bench_system(c, "s3_gyroscope", &r.system, r.y0);
+    let r = s2_affine();
+    bench_system(c, "s2_affine", &r.system, r.y0);
+    let r = t2_affine();
+    bench_system(c, "t2_affine", &r.system, r.y0);
+}
+
+// ---------------------------------------------------------------------------
+// Interleaved ratio table
+// ---------------------------------------------------------------------------
+
+/// Thread-CPU nanoseconds (`CLOCK_THREAD_CPUTIME_ID`): time the thread was
+/// descheduled by other processes on the shared machine is not counted.
+fn thread_ns() -> f64 {
+    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: clock_gettime writes one timespec through a valid pointer.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    assert_eq!(rc, 0, "clock_gettime failed");
+    ts.tv_sec as f64 * 1e9 + ts.tv_nsec as f64
+}
+
+/// Thread-CPU nanoseconds per call of `f` over `n` calls (the rounds are
+/// interleaved with the baseline, and medians of ratios are reported).
+fn ns_per(n: usize, mut f: impl FnMut()) -> f64 {
+    let t0 = thread_ns();
+    for _ in 0..n {
+        f();
+    }
+    (thread_ns() - t0) / n as f64
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// One row: per-step ns of `step` and of the baseline, alternating, 15 rounds.
+fn ratio_row(hs: &HandSys, hy: &Hand, mut step: impl FnMut()) -> (f64, f64, f64) {
+    let n = 20_000;
+    let (mut own, mut base, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..15 {
+        let b = ns_per(n, || {
+            black_box(hand_rkmk4(hs, black_box(hy), H));
+        });
+        let o = ns_per(n, &mut step);
+        own.push(o);
+        base.push(b);
+        ratio.push(o / b);
+    }
+    (median(&mut own), median(&mut base), median(&mut ratio))
+}
+
+fn ratio_table() {
+    let r = s2_gyro();
+    check_hand(&r);
+    let (hs, hy) = hand_of(&r);
+    let mut rows: Vec<(String, String, f64, f64, f64)> = Vec::new();
+    macro_rules! system {
+        ($name:expr, $sys:expr, $y0:expr) => {{
+            let (sys, y0) = ($sys, $y0);
+            let (o, b, q) = ratio_row(&hs, &hy, || {
+                black_box(sys.vector_field(0.0, black_box(&y0)));
+            });
+            rows.push(($name.to_string(), "rhs".into(), o, b, q));
+            each_method!(mname, m, {
+                let (o, b, q) = ratio_row(&hs, &hy, || {
+                    black_box(m.step(&sys, 0.0, black_box(&y0), H, StepRequest::plain()).map(|o| o.y).ok());
+                });
+                rows.push(($name.to_string(), mname.into(), o, b, q));
+            });
+        }};
+    }
+    let (o, b, q) = ratio_row(&hs, &hy, || {
+        black_box(hand_rkmk4(&hs, black_box(&hy), H));
+    });
+    rows.push(("s2_gyroscope".into(), "hand_rkmk4".into(), o, b, q));
+    let (o, b, q) = ratio_row(&hs, &hy, || {
+        black_box(hs.f(black_box(&hy)));
+    });
+    rows.push(("s2_gyroscope".into(), "hand_rhs".into(), o, b, q));
+    system!("s2_gyroscope", r.system.clone(), r.y0);
+    let (p, y) = s2_point();
+    system!("s2_point", p, y);
+    let r = h2_gyro();
+    system!("h2_gyroscope", r.system.clone(), r.y0);
+    let r = h2_lorentz();
+    system!("h2_lorentz", r.system.clone(), r.y0);
+    let r = t2_gyro();
+    system!("t2_gyroscope", r.system.clone(), r.y0);
+    let r = s3_gyro();
+    system!("s3_gyroscope", r.system.clone(), r.y0);
+    let r = s2_affine();
+    system!("s2_affine", r.system.clone(), r.y0);
+    let r = t2_affine();
+    system!("t2_affine", r.system.clone(), r.y0);
+
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/data/step_cost.csv");
+    let _ = std::fs::create_dir_all(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/data"));
+    let mut out = std::fs::File::create(path).expect("create docs/data/step_cost.csv");
+    writeln!(out, "system,method,ns_per_call,baseline_ns,ratio_to_hand_rkmk4").unwrap();
+    println!("\n{:<14} {:<11} {:>10} {:>12} {:>10}", "system", "call", "ns/call", "baseline ns", "ratio");
+    for (s, m, o, b, q) in &rows {
+        writeln!(out, "{s},{m},{o:.1},{b:.1},{q:.3}").unwrap();
+        println!("{s:<14} {m:<11} {o:>10.1} {b:>12.1} {q:>10.3}");
+    }
+    println!("written: docs/data/step_cost.csv");
+}
+
+fn main() {
+    let bench_mode = std::env::args().any(|a| a == "--bench");
+    let ratios_only = std::env::var_os("FRAMEDYN_RATIOS_ONLY").is_some();
+    if !(bench_mode && ratios_only) {
+        let mut c = Criterion::default()
+            .warm_up_time(std::time::Duration::from_millis(300))
+            .measurement_time(std::time::Duration::from_millis(1000))
+            .sample_size(20)
+            .configure_from_args();
+        benches(&mut c);
+        c.final_summary();
+    }
+    if bench_mode {
+        ratio_table();
+    }
+}
