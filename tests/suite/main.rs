@@ -15,6 +15,9 @@ mod matrix_groups;
 mod potentials;
 mod sphere;
 mod sphere3;
+mod splitting;
+mod implicit;
+mod baselines;
 mod torus;
 
 lie_law_suite!(rn3, framedyn::lie::Rn<3>, radius = 5.0, tol = 1e-14, fd_tol = 1e-9, product_radius = 5.0);
