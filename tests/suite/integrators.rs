@@ -1111,6 +1111,18 @@ fn fixed_step_path_does_not_allocate_per_step() {
         st5.step(1e-3).unwrap();
     }
     assert_eq!(alloc_count::count() - before, 0, "Stepper allocated");
+    // The implicit midpoint rule (Newton, faer LU on stack buffers) and a
+    // splitting method (Blanes–Moan S6 on an S² gyroscope with a frame
+    // coupling) allocate nothing per step either.
+    let mut sti = Stepper::new(sys.clone(), framedyn::method::ImplicitMidpoint::new(), 0.0, y0).unwrap();
+    let (gyro, gy0) = super::splitting::s2_gyro(0.8, 0.4);
+    let mut sts = Stepper::new(gyro, framedyn::method::Splitting::blanes_moan4(), 0.0, gy0).unwrap();
+    let before = alloc_count::count();
+    for _ in 0..1000 {
+        sti.step(1e-3).unwrap();
+        sts.step(1e-2).unwrap();
+    }
+    assert_eq!(alloc_count::count() - before, 0, "implicit midpoint or splitting allocated");
     let problem = Problem::new(sys, y0, (0.0, 1.0)).unwrap();
     let count = |n: usize| {
         let opts = Options::fixed(1.0 / n as f64)

@@ -15,6 +15,9 @@ mod matrix_groups;
 mod potentials;
 mod sphere;
 mod sphere3;
+mod splitting;
+mod implicit;
+mod baselines;
 mod torus;
 mod validation;
 

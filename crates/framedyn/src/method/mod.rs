@@ -16,18 +16,55 @@
 //!   each state group provides;
 //! - [`trees`]: rooted trees and order conditions for checking tableaux.
 //!
-//! Further methods (splittings, coordinate baselines) implement [`Method`]
-//! for the systems they can integrate. A classical Runge–Kutta method in
-//! coordinates is already [`Rkmk`] on the additive group [`Rn`](crate::lie::Rn)
+//! - [`Splitting`]: symplectic splitting with exact free flows for the
+//!   systems that are [`Splittable`] (gyroscopes and points on S², H², S³);
+//! - [`ImplicitMidpoint`]: the symmetric implicit Lie midpoint rule for any
+//!   system (Newton with a faer LU);
+//! - [`baseline`]: classical RK4 / DOPRI5 on the paper's chart equations.
+//!
+//! # Which method
+//!
+//! | method | order | cost per step | use it for |
+//! |---|---|---|---|
+//! | [`Rkmk::lie_euler`] | 1 | 1 RHS, 1 exp | tests, teaching |
+//! | [`Rkmk::heun`] | 2 | 2 RHS, 2 exp | cheap low accuracy |
+//! | [`Rkmk::kutta3`] | 3 | 3 RHS, 3 exp, 2 brackets | — |
+//! | [`Rkmk::rk4`] | 4 | 4 RHS, 4 exp, 2 brackets | fixed-step accuracy on any system |
+//! | [`Rkmk::dopri5`] | 5 (4) | 6 RHS (FSAL), 6–7 exp, `ad²` series | **default**: adaptive, dense output, events; any system, short to medium times |
+//! | [`Rkmk::butcher6`] | 6 | 7 RHS, 7 exp, `ad⁴` series | high-accuracy references |
+//! | [`Splitting::strang`] | 2 | 1 kick (1 force), 2 drifts | long runs at loose accuracy: energy bounded, momentum maps exact |
+//! | [`Splitting::yoshida4`] / [`Splitting::suzuki4`] | 4 | 3 / 5 kicks, 4 / 6 drifts | long runs (Suzuki: 10–130× smaller error than Yoshida at equal h) |
+//! | [`Splitting::blanes_moan4`] | 4 | 6 kicks, 7 drifts | **long runs on S², H², S³**: 160–1200× smaller error than Yoshida 4 at equal h |
+//! | [`Splitting::yoshida6`] / [`Splitting::blanes_moan6`] | 6 | 7 / 10 kicks, 8 / 11 drifts | long runs at tight accuracy (Blanes–Moan 50–450× more accurate at equal h) |
+//! | [`ImplicitMidpoint`] | 2 | Newton: `dim 𝔤` RHS for the Jacobian + 1 RHS and 1 exp per iteration (≈ 3–6), one LU | long runs where no exact free flow exists (T², affine bodies): symmetric, energy bounded |
+//! | [`baseline::CoordinateRk`] | 4 / 5 (4) | 4 / 6 `q̈` evaluations (autodiff + dense LU, allocates) | comparison only: fails at chart poles |
+//!
+//! A *drift* costs 1 exponential for a point, 3 for the n = 2 gyroscope, 5
+//! for the n = 3 symmetric top (and 25 small rotations for an anisotropic
+//! one, composed to sixth order); a *kick* is one evaluation of the forces.
+//! The RKMK methods keep the group constraint to round-off and their energy
+//! error shrinks like `h^p` but drifts over long times; the splittings and
+//! the implicit midpoint rule are symmetric and keep the energy error
+//! bounded (measured in `tests/suite/splitting.rs`, `implicit.rs`). The
+//! costs in this table are counts from the implementations ([`StepCost`]
+//! reports them per step); the error ratios are those printed by
+//! `cargo test --test suite orders_on -- --nocapture` (gyroscopes and point
+//! on S², H², S³). A classical Runge–Kutta method in
+//! coordinates is also [`Rkmk`] on the additive group [`Rn`](crate::lie::Rn)
 //! (brackets vanish, `exp` is the identity).
 
+pub mod baseline;
 pub mod group;
+pub mod implicit;
 pub mod rkmk;
+pub mod splitting;
 pub mod tableau;
 pub mod trees;
 
 pub use group::GroupNumerics;
+pub use implicit::ImplicitMidpoint;
 pub use rkmk::{DexpInv, Rkmk};
+pub use splitting::{ConstantCurvature, Splittable, Splitting};
 pub use tableau::Tableau;
 
 use std::fmt::Debug;
@@ -197,6 +234,26 @@ pub enum StepFault {
         /// Work done before the step was abandoned (an adaptive driver
         /// retries with a smaller step and counts it).
         cost: StepCost,
+    },
+    /// The nonlinear equations of an implicit step were not solved
+    /// ([`ImplicitMidpoint`]): too many iterations, divergence or a singular
+    /// Jacobian.
+    NoConvergence {
+        /// Newton iterations spent.
+        iterations: u32,
+        /// The last update (max norm) when it stopped.
+        residual: f64,
+        /// The time at which the equations were posed.
+        t_eval: f64,
+    },
+    /// A coordinate method reached a point where its chart is singular
+    /// ([`baseline`]).
+    OutsideChart {
+        /// Why, in words (from [`Error::OutsideChart`](crate::Error::OutsideChart)
+        /// or the mass-matrix check of [`coords`](crate::coords)).
+        reason: &'static str,
+        /// The time of the failing evaluation.
+        t_eval: f64,
     },
 }
 

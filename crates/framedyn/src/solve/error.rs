@@ -80,6 +80,34 @@ pub enum SolveError {
         /// The guard.
         limit: f64,
     },
+    /// An implicit step's equations were not solved (Newton did not converge).
+    #[error(
+        "step from t = {t} with h = {h:e}: Newton did not converge after {iterations} iterations (last update {residual:e}, equations at t = {t_eval}); reduce h"
+    )]
+    NoConvergence {
+        /// Start of the step.
+        t: f64,
+        /// Its size.
+        h: f64,
+        /// Time at which the equations were posed.
+        t_eval: f64,
+        /// Iterations spent.
+        iterations: u32,
+        /// Last update (max norm).
+        residual: f64,
+    },
+    /// A coordinate method left the region where its chart is regular.
+    #[error("step from t = {t} with h = {h:e}: outside the chart at t = {t_eval}: {reason}")]
+    OutsideChart {
+        /// Start of the step.
+        t: f64,
+        /// Its size.
+        h: f64,
+        /// Time of the failing evaluation.
+        t_eval: f64,
+        /// Why, in words.
+        reason: &'static str,
+    },
 }
 
 /// A failed solve: the error and the solution up to the last good state.

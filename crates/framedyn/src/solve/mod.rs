@@ -45,6 +45,10 @@ pub(crate) fn fault_error(f: StepFault, t: f64, h: f64) -> SolveError {
     match f {
         StepFault::NonFinite { source, t_eval } => SolveError::NonFinite { what: source, t_eval, t, h },
         StepFault::DexpRadius { radius, limit, .. } => SolveError::DexpRadius { t, h, radius, limit },
+        StepFault::NoConvergence { iterations, residual, t_eval } => {
+            SolveError::NoConvergence { t, h, t_eval, iterations, residual }
+        }
+        StepFault::OutsideChart { reason, t_eval } => SolveError::OutsideChart { t, h, t_eval, reason },
     }
 }
 
