@@ -195,7 +195,8 @@ fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option
             return;
         }
         if bar.is_none() && started.elapsed().as_secs_f64() > 1.0 {
-            let b = indicatif::ProgressBar::with_draw_target(Some(1000), indicatif::ProgressDrawTarget::stderr());
+            let b = indicatif::ProgressBar::with_draw_target(Some(1000), indicatif::ProgressDrawTarget::stderr())
+                .with_elapsed(started.elapsed());
             b.set_style(
                 indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% t = {msg} (eta {eta})")
                     .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
