@@ -102,6 +102,10 @@ fn default_scene_crosses_the_pole() {
     assert!(z.iter().any(|&z| z > 0.9995 * r));
     assert!(s.relative_energy_drift() < 1e-8, "{:e}", s.relative_energy_drift());
     assert!(s.max_defect < 1e-12, "{:e}", s.max_defect);
+    // The potential is axially symmetric about the pole: p_φ is conserved.
+    let p_phi = col(&sink, "p_phi");
+    assert!(p_phi[0].abs() > 1e-3);
+    assert!(s.momentum_map_drift < 1e-10 * p_phi[0].abs().max(1.0), "{:e}", s.momentum_map_drift);
 }
 
 /// Bertrand: the S² oscillator orbit is closed — after the period of the

@@ -304,10 +304,21 @@ pub(crate) struct Ctx<'a> {
     pub buf: Vec<f64>,
     pub last_recorded_t: Option<f64>,
     pub last_progress: Instant,
+    /// Columns of the momentum maps in a record, and their first values.
+    pub mm_idx: Vec<usize>,
+    pub mm0: Vec<f64>,
 }
 
 impl Ctx<'_> {
     fn note(&mut self, energy: f64, defect: f64) {
+        if self.summary.records == 0 {
+            self.mm0 = self.mm_idx.iter().map(|&j| self.buf[j]).collect();
+        }
+        for (k, &j) in self.mm_idx.iter().enumerate() {
+            let d = (self.buf[j] - self.mm0[k]).abs();
+            let m = &mut self.summary.momentum_map_drift;
+            *m = if d.is_nan() || m.is_nan() { f64::NAN } else { m.max(d) };
+        }
         let s = &mut self.summary;
         if s.records == 0 {
             s.energy_initial = energy;

@@ -217,6 +217,10 @@ pub struct RunSummary {
     pub energy_initial: f64,
     /// `max |E − E₀|` over the records (the invariant drift).
     pub energy_drift: f64,
+    /// `max |J − J₀|` over the records and the recorded momentum maps
+    /// (`p_phi`, or `J_ab` on S³; 0 when none is recorded). Conserved only
+    /// when the potential has the symmetry (e.g. central about the pole).
+    pub momentum_map_drift: f64,
     /// `max` over the records of the constraint defect.
     pub max_defect: f64,
     /// Time reached.
@@ -236,6 +240,7 @@ impl RunSummary {
             wall_time: Duration::ZERO,
             energy_initial: f64::NAN,
             energy_drift: 0.0,
+            momentum_map_drift: 0.0,
             max_defect: 0.0,
             t_reached: t0,
             stop: SceneStop::Finished,
@@ -257,6 +262,7 @@ impl fmt::Display for RunSummary {
         writeln!(f, "records:         {}", self.records)?;
         writeln!(f, "wall time:       {:.3} s", self.wall_time.as_secs_f64())?;
         writeln!(f, "energy:          E0 = {:.12e}, max |E - E0| = {:.3e} (relative {:.3e})", self.energy_initial, self.energy_drift, self.relative_energy_drift())?;
+        writeln!(f, "momentum maps:   max |J - J0| = {:.3e}", self.momentum_map_drift)?;
         write!(f, "constraint defect: max {:.3e}", self.max_defect)
     }
 }
@@ -1231,6 +1237,8 @@ impl Simulation {
             summary,
             buf: Vec::with_capacity(self.columns.len()),
             last_recorded_t: None,
+            mm_idx: self.columns.iter().enumerate().filter(|(_, c)| c.name == "p_phi" || c.name.starts_with("J_")).map(|(j, _)| j).collect(),
+            mm0: Vec::new(),
             last_progress: started,
         };
         let result = self.engine.run(&self.plan, &mut ctx);
