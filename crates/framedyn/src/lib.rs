@@ -37,6 +37,7 @@ pub mod lie;
 pub mod manifold;
 pub mod method;
 pub mod potential;
+pub mod scenes;
 pub mod solve;
 
 pub use error::{Error, Result};

@@ -1,0 +1,408 @@
+//! The serde description of a scene (TOML or JSON). Every table denies
+//! unknown fields; ranges and combinations are checked by
+//! [`Scene::validate`](super::Scene::validate).
+
+use serde::de::{self, SeqAccess, Visitor};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::fmt;
+
+use super::potential::Series;
+
+/// One number or an array of numbers (`spin = 0.5` or `spin = [0.1, 0, 0.3]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Numbers(pub Vec<f64>);
+
+impl Serialize for Numbers {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        if self.0.len() == 1 {
+            s.serialize_f64(self.0[0])
+        } else {
+            self.0.serialize(s)
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Numbers {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Numbers;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number or an array of numbers")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Numbers, E> {
+                Ok(Numbers(vec![v]))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Numbers, E> {
+                Ok(Numbers(vec![v as f64]))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Numbers, E> {
+                Ok(Numbers(vec![v as f64]))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Numbers, A::Error> {
+                let mut out = Vec::new();
+                while let Some(v) = seq.next_element::<f64>()? {
+                    out.push(v);
+                }
+                Ok(Numbers(out))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// The manifold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ManifoldKind {
+    /// The sphere S²(R) ⊂ ℝ³.
+    S2,
+    /// The hyperbolic plane H²(R) ⊂ ℝ^{2,1} (upper sheet).
+    H2,
+    /// The torus T²(L, R) ⊂ ℝ³.
+    T2,
+    /// The three-sphere S³(R) ⊂ ℝ⁴.
+    S3,
+}
+
+/// `[manifold]`: `kind` and its radii.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ManifoldSpec {
+    /// `"S2"`, `"H2"`, `"T2"` or `"S3"`.
+    pub kind: ManifoldKind,
+    /// `R` of S², H², S³ (default 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    /// `L`, the major radius of T².
+    #[serde(default, alias = "L", skip_serializing_if = "Option::is_none")]
+    pub major: Option<f64>,
+    /// `R`, the minor radius of T².
+    #[serde(default, alias = "R", skip_serializing_if = "Option::is_none")]
+    pub minor: Option<f64>,
+}
+
+/// The body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BodyKind {
+    /// A structureless material point.
+    Point,
+    /// A gyroscope (orthonormal frame; SO(n) fibre).
+    Gyroscope,
+    /// An affinely-rigid body (GL⁺(n) fibre).
+    Affine,
+    /// An incompressible affine body (SL(n) fibre).
+    Incompressible,
+    /// A Weyl body: rotations and dilatations (CO⁺(n) fibre).
+    Weyl,
+    /// A purely dilatational body (ℝ⁺ fibre).
+    Dilatation,
+}
+
+impl BodyKind {
+    /// Whether the body has an internal (frame) configuration of GL type.
+    pub fn is_affine(self) -> bool {
+        matches!(self, BodyKind::Affine | BodyKind::Incompressible | BodyKind::Weyl | BodyKind::Dilatation)
+    }
+}
+
+/// Sign of the internal kinetic energy of a gyroscope.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SignatureSpec {
+    /// `+` (a52).
+    #[default]
+    Riemannian,
+    /// The indefinite Lorentz-type gyroscope of (a138).
+    Lorentz,
+}
+
+/// `[body]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// `"point"`, `"gyroscope"`, `"affine"`, `"incompressible"`, `"weyl"`, `"dilatation"`.
+    pub kind: BodyKind,
+    /// Mass `m > 0` (default 1).
+    #[serde(default = "one")]
+    pub mass: f64,
+    /// Isotropic moment `I > 0`: `J = (I/2)δ` for a gyroscope (so `Tr J = I`
+    /// in 2-D), `J = I·δ` for affine bodies (§5). Default 1 unless `J` is given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inertia: Option<f64>,
+    /// The full inertia `J^{AB}` (n×n, rows), symmetric positive definite.
+    #[serde(default, rename = "J", skip_serializing_if = "Option::is_none")]
+    pub j: Option<Vec<Vec<f64>>>,
+    /// Gyroscopes only: `"riemannian"` (default) or `"lorentz"` (a138).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub signature: Option<SignatureSpec>,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// The potential family.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PotentialKind {
+    /// `V = 0`.
+    #[default]
+    None,
+    /// Bertrand oscillator, parameter `kappa` (S², H², S³).
+    Oscillator,
+    /// Bertrand Kepler potential, parameter `alpha` (S², H², S³).
+    Kepler,
+    /// `alpha_hat·cos²(r/R) + beta_hat·cos(r/R)` (S², H², S³).
+    Cosine,
+    /// Central `V(r)` = the series `v` (S², H², S³).
+    Central,
+    /// The elastic potential (a131), parameter `kappa` (2-D affine bodies).
+    Elastic,
+    /// Separable `V_r(r) + V_ϱ(ϱ) + V_ε(ε)/ϱ²` (b128), series `v_r`, `v_rho`,
+    /// `v_eps` (2-D; `r` is the torus angle ϑ on T²).
+    Separable,
+    /// Neo-Hookean `W(I₁, I₂, I₃)`, parameters `lambda`, `mu` (S³ affine bodies).
+    NeoHookean,
+    /// Saint Venant–Kirchhoff, parameters `lambda`, `mu` (S³ affine bodies).
+    StVenantKirchhoff,
+    /// The sum of `terms` (each with an optional `scale`).
+    Sum,
+}
+
+/// `[potential]` (also each entry of `terms`).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PotentialSpec {
+    /// The family (default `"none"`).
+    #[serde(default)]
+    pub kind: PotentialKind,
+    /// A factor multiplying the potential (default 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<f64>,
+    /// Oscillator and elastic constant κ.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kappa: Option<f64>,
+    /// Kepler constant α.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha: Option<f64>,
+    /// α̂ of the cosine family.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha_hat: Option<f64>,
+    /// β̂ of the cosine family.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beta_hat: Option<f64>,
+    /// Lamé constant λ (S³ invariant potentials).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lambda: Option<f64>,
+    /// Shear modulus μ (S³ invariant potentials).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mu: Option<f64>,
+    /// Centre of a central potential, embedding coordinates (default: the
+    /// pole of the paper's chart).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub centre: Option<Vec<f64>>,
+    /// `V(r)` of a central potential.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub v: Option<Series>,
+    /// `V_r` of a separable potential.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub v_r: Option<Series>,
+    /// `V_ϱ` of a separable potential.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub v_rho: Option<Series>,
+    /// `V_ε` of a separable potential.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub v_eps: Option<Series>,
+    /// The terms of a sum.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub terms: Option<Vec<PotentialSpec>>,
+}
+
+/// `[initial]`: either the paper's coordinates (`r, phi` on S²/H²,
+/// `theta, phi` on T², `r1, r2, r3` on S³, with `*_dot` velocities) or the
+/// embedding (`position`, `velocity`, optionally `frame`); plus the internal
+/// state of the body.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialSpec {
+    /// Paper coordinate `r` (S², H²: geodesic distance from the chart pole).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r: Option<f64>,
+    /// Paper coordinate `φ` (S², H², T²), radians.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phi: Option<f64>,
+    /// Paper coordinate `θ` (T²), radians.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub theta: Option<f64>,
+    /// Paper coordinate `r̄₁` (S³ rotation-vector chart).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r1: Option<f64>,
+    /// Paper coordinate `r̄₂`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r2: Option<f64>,
+    /// Paper coordinate `r̄₃`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r3: Option<f64>,
+    /// `ṙ`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r_dot: Option<f64>,
+    /// `φ̇`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phi_dot: Option<f64>,
+    /// `θ̇`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub theta_dot: Option<f64>,
+    /// `ṙ̄₁`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r1_dot: Option<f64>,
+    /// `ṙ̄₂`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r2_dot: Option<f64>,
+    /// `ṙ̄₃`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r3_dot: Option<f64>,
+    /// Embedding position (3 or 4 numbers).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub position: Option<Vec<f64>>,
+    /// Embedding velocity (tangent at `position`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<Vec<f64>>,
+    /// Gyroscope body frame as a list of its vectors `e_A` (embedding
+    /// components; orthonormal, tangent, positively oriented).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frame: Option<Vec<Vec<f64>>>,
+    /// 2-D gyroscope: angle `α` of the body frame from the reference frame
+    /// (the paper's `E(x)`, or a Gram–Schmidt frame at a chart pole).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha: Option<f64>,
+    /// S³ gyroscope: rotation vector of the body frame from the reference frame.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orientation: Option<Vec<f64>>,
+    /// Gyroscope spin (2-D: a number; S³: three body components).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spin: Option<Numbers>,
+    /// Gyroscope angular velocity instead of `spin` (2-D: `α̇` relative to
+    /// the parallel frame; S³: body components).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub omega: Option<Numbers>,
+    /// Affine bodies: internal configuration `ρ` (n×n rows), `e = q·ρ` with
+    /// `q` the reference frame (default identity).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rho: Option<Vec<Vec<f64>>>,
+    /// Affine bodies: internal velocity `ρ̇` (n×n rows, default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rho_dot: Option<Vec<Vec<f64>>>,
+}
+
+/// `[method]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MethodSpec {
+    /// The method's name (see [`METHOD_NAMES`](super::METHOD_NAMES)); default `"rk4"`.
+    #[serde(default = "default_method")]
+    pub name: String,
+    /// Fixed step size (upper bound; the span is split into equal steps).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub h: Option<f64>,
+    /// Relative tolerance (adaptive methods).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rtol: Option<f64>,
+    /// Absolute tolerance (adaptive methods).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub atol: Option<f64>,
+    /// Limit on the number of accepted steps (default 10⁹).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_steps: Option<u64>,
+}
+
+fn default_method() -> String {
+    "rk4".into()
+}
+
+impl Default for MethodSpec {
+    fn default() -> Self {
+        MethodSpec { name: default_method(), h: None, rtol: None, atol: None, max_steps: None }
+    }
+}
+
+/// `[time]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeSpec {
+    /// Start `t₀` (default 0).
+    #[serde(default)]
+    pub t0: f64,
+    /// End `t_end` (≠ t₀; may be earlier: backwards integration).
+    pub t_end: f64,
+}
+
+/// Output quantities (column groups).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    /// Embedding position `x0 …`.
+    Position,
+    /// Embedding velocity `v0 …`.
+    Velocity,
+    /// Body frame vectors `e1_0 …` (embedding components).
+    Frame,
+    /// The paper's coordinates and their rates (NaN where the chart is singular).
+    Coordinates,
+    /// Momenta of the internal motion (spin, hypermomentum).
+    Momenta,
+    /// Total energy.
+    Energy,
+    /// Momentum maps (p_φ; on S³ the six so(4) charges).
+    MomentumMap,
+    /// Constraint defect.
+    Defect,
+}
+
+impl Quantity {
+    /// All quantities, in column order.
+    pub const ALL: [Quantity; 8] = [
+        Quantity::Position,
+        Quantity::Velocity,
+        Quantity::Frame,
+        Quantity::Coordinates,
+        Quantity::Momenta,
+        Quantity::Energy,
+        Quantity::MomentumMap,
+        Quantity::Defect,
+    ];
+}
+
+/// Output file format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Format {
+    /// Comma-separated values with a header line.
+    Csv,
+    /// A numpy `.npz` archive (`data`, `columns`, `units`).
+    Npz,
+}
+
+/// `[output]`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Record every N-th accepted step (and the first and last state).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub every: Option<u64>,
+    /// Record exactly at these times (within the span).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub times: Option<Vec<f64>>,
+    /// Record at this many equally spaced times including both ends (≥ 2).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub samples: Option<u64>,
+    /// Column groups to record (default: all).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub quantities: Option<Vec<Quantity>>,
+    /// File format (default from the extension of `path`, else CSV).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub format: Option<Format>,
+    /// Output path (default `trajectory.csv`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub path: Option<String>,
+}
