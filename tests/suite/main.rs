@@ -7,6 +7,7 @@ mod manifold_laws;
 
 mod coords;
 mod crosscheck;
+mod crosscheck_affine;
 mod dynamics_affine;
 mod dynamics_gyro;
 mod hyperbolic;
