@@ -134,6 +134,7 @@ class Scene:
     """
 
     __slots__ = ("_native",)
+    _native: "_framedyn.Scene"
 
     def __init__(
         self,
