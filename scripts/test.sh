@@ -21,7 +21,13 @@ export VIRTUAL_ENV="$FRAMEDYN_VENV"
 export PYO3_PYTHON="$PY"
 export PYTHON_SYS_EXECUTABLE="$PY"
 export PYO3_BUILD_EXTENSION_MODULE=1
-PYO3_ENVIRONMENT_SIGNATURE="$("$PY" -c 'import platform, struct; print(f"{platform.python_implementation().lower()}-{platform.python_version_tuple()[0]}.{platform.python_version_tuple()[1]}-{struct.calcsize("P") * 8}bit")')"
+PYO3_ENVIRONMENT_SIGNATURE="$("$PY" - <<'PYEOF'
+import platform, struct
+impl = platform.python_implementation().lower()
+major, minor = platform.python_version_tuple()[:2]
+print(f"{impl}-{major}.{minor}-{struct.calcsize('P') * 8}bit")
+PYEOF
+)"
 export PYO3_ENVIRONMENT_SIGNATURE
 
 cargo test --workspace --all-targets

@@ -5,8 +5,15 @@ from __future__ import annotations
 import os
 
 import pytest
+from hypothesis import settings
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+
+# Reproducible property tests (as PROPTEST_RNG_SEED for Rust): hypothesis
+# derives its examples from the test itself unless FRAMEDYN_HYPOTHESIS_RANDOM=1.
+settings.register_profile("framedyn", derandomize=True, database=None)
+settings.register_profile("random", derandomize=False)
+settings.load_profile("random" if os.environ.get("FRAMEDYN_HYPOTHESIS_RANDOM") == "1" else "framedyn")
 
 import framedyn as fd  # noqa: E402
 

@@ -7,7 +7,7 @@ import pickle
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import assume, given, settings, strategies as st
 
 import framedyn as fd
 
@@ -210,3 +210,24 @@ def test_random_paper_states_run_and_conserve(r, phi, r_dot, phi_dot, spin):
     assert sol.momenta["spin"][0] == pytest.approx(spin, abs=1e-12)
     scale = max(1.0, abs(sol.energy[0]))
     assert sol.stats["energy_drift"] < 1e-7 * scale
+
+
+unit3 = st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(-1, 1)).filter(lambda v: 0.1 < np.linalg.norm(v))
+
+
+@settings(max_examples=25, deadline=None)
+@given(p=unit3, v=unit3, R=st.floats(0.5, 3.0), speed=st.one_of(st.just(0.0), st.floats(1e-6, 2.0)))
+def test_random_embedding_states(p, v, R, speed):
+    """Initial states given as numpy arrays in the embedding: the first
+    record reproduces them, and the point stays on the sphere."""
+    x = R * np.asarray(p) / np.linalg.norm(p)
+    u = np.asarray(v) - np.dot(v, x) * x / R**2  # tangent part
+    assume(np.linalg.norm(u) > 1e-3)
+    u *= speed / np.linalg.norm(u)
+    s = fd.Scene({"kind": "S2", "radius": R}, "point", position=x, velocity=u, method="rk4", h=0.01, t_end=0.3)
+    sol = fd.solve(s)
+    np.testing.assert_allclose(sol.position[0], x, atol=1e-12 * R)
+    np.testing.assert_allclose(sol.velocity[0], u, atol=1e-12 * max(1.0, speed))
+    np.testing.assert_allclose(np.linalg.norm(sol.position, axis=1), R, rtol=1e-12)
+    # A free point moves on a great circle at constant speed.
+    np.testing.assert_allclose(np.linalg.norm(sol.velocity, axis=1), speed, atol=1e-9)
