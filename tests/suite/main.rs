@@ -13,6 +13,7 @@ mod hyperbolic;
 mod integrators;
 mod matrix_groups;
 mod potentials;
+mod scenes;
 mod sphere;
 mod sphere3;
 mod torus;

@@ -100,8 +100,12 @@ impl SceneError {
     pub(crate) fn from_core(path: &str, err: crate::Error) -> Self {
         use crate::Error as E;
         let sub = |field: &str| {
-            if path.ends_with(field) || field.is_empty() {
+            if path.contains('.') || field.is_empty() || path.ends_with(field) {
                 path.to_string()
+            } else if field == "I" {
+                format!("{path}.inertia")
+            } else if field.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+                format!("{path}.{field}")
             } else {
                 format!("{path} ({field})")
             }

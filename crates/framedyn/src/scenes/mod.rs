@@ -318,6 +318,23 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A scene from its parts, with no potential, the default method and
+    /// output (fill in the public fields to change them).
+    pub fn new(manifold: ManifoldSpec, body: BodySpec, initial: InitialSpec, time: TimeSpec) -> Scene {
+        Scene {
+            name: None,
+            description: None,
+            manifold,
+            body,
+            potential: PotentialSpec::default(),
+            initial,
+            method: MethodSpec::default(),
+            time,
+            output: OutputSpec::default(),
+            source: None,
+        }
+    }
+
     /// Parses a TOML scene. Errors ([`SceneError::Parse`]) name the field,
     /// the parser's message (value and expected type/variants) and the line
     /// and column.
@@ -373,6 +390,11 @@ impl Scene {
     /// The scene as TOML.
     pub fn to_toml_string(&self) -> String {
         toml::to_string_pretty(self).unwrap_or_else(|e| format!("# cannot serialise: {e}\n"))
+    }
+
+    /// The scene as JSON.
+    pub fn to_json_string(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
     }
 
     /// Checks everything [`Self::build`] checks, without running.
@@ -1187,8 +1209,9 @@ impl Simulation {
         self.engine.method_name()
     }
 
-    /// Runs the scene from its initial state over its time span, streaming
-    /// records to `sink`; `cancel` is polled every few hundred steps (a
+    /// Runs the scene from its initial state over its time span (the
+    /// simulation is reset first and left at the last state reached),
+    /// streaming records to `sink`; `cancel` is polled every few hundred steps (a
     /// cancelled run stops cleanly with [`SceneStop::Cancelled`] and the last
     /// state recorded); `progress` is called at most every 50 ms.
     ///
@@ -1229,8 +1252,8 @@ impl Simulation {
     }
 
     /// Advances the current state by one step of size `h` with the scene's
-    /// method (stepping API; independent of [`Self::run`], which always
-    /// starts from the initial state).
+    /// method (stepping API; [`Self::run`] always starts again from the
+    /// initial state).
     pub fn step(&mut self, h: f64) -> Result<(), SolveError> {
         self.engine.step(h)
     }

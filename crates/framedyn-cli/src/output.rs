@@ -1,0 +1,214 @@
+//! Streamed, atomic output files: CSV with a header, or a numpy `.npz`.
+//!
+//! Records go to a temporary file next to the target (`.NAME.tmp-PID`); the
+//! target appears only by a rename once the file is complete, so an
+//! interrupted or failed run never leaves a corrupt file at the output path.
+//! For `.npz` the rows are streamed to a raw temporary file first (the
+//! `.npy` header needs the row count), then copied into the archive: memory
+//! stays flat however many records are written.
+
+use std::fs::{self, File};
+use std::io::{self, BufReader, BufWriter, Read, Write};
+use std::path::{Path, PathBuf};
+
+use framedyn::scenes::{Column, Format, RecordSink};
+
+/// A record sink writing a CSV or `.npz` file atomically.
+pub struct FileSink {
+    target: PathBuf,
+    tmp: PathBuf,
+    raw: Option<PathBuf>,
+    format: Format,
+    out: Option<BufWriter<File>>,
+    columns: Vec<Column>,
+    rows: u64,
+    line: String,
+}
+
+fn sibling(target: &Path, suffix: &str) -> PathBuf {
+    let name = target.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "output".into());
+    let dir = target.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or_else(|| Path::new("."));
+    dir.join(format!(".{name}.{suffix}-{}", std::process::id()))
+}
+
+impl FileSink {
+    /// A sink for `target` (its directory must exist and be writable).
+    pub fn create(target: &Path, format: Format) -> io::Result<FileSink> {
+        if target.is_dir() {
+            return Err(io::Error::new(io::ErrorKind::InvalidInput, "the output path is a directory"));
+        }
+        let tmp = sibling(target, "tmp");
+        let (raw, file) = match format {
+            Format::Csv => (None, File::create(&tmp)?),
+            Format::Npz => {
+                let raw = sibling(target, "raw");
+                let f = File::create(&raw)?;
+                (Some(raw), f)
+            }
+        };
+        Ok(FileSink {
+            target: target.to_path_buf(),
+            tmp,
+            raw,
+            format,
+            out: Some(BufWriter::with_capacity(1 << 16, file)),
+            columns: Vec::new(),
+            rows: 0,
+            line: String::new(),
+        })
+    }
+
+    fn out(&mut self) -> io::Result<&mut BufWriter<File>> {
+        self.out.as_mut().ok_or_else(|| io::Error::other("output already closed"))
+    }
+
+    /// Completes the file and renames it onto the target.
+    pub fn finish(mut self) -> io::Result<()> {
+        let res = self.finish_inner();
+        if res.is_err() {
+            self.cleanup();
+        }
+        res
+    }
+
+    fn finish_inner(&mut self) -> io::Result<()> {
+        let mut out = self.out.take().ok_or_else(|| io::Error::other("output already closed"))?;
+        out.flush()?;
+        let file = out.into_inner().map_err(|e| e.into_error())?;
+        file.sync_all()?;
+        drop(file);
+        if let (Format::Npz, Some(raw)) = (self.format, &self.raw) {
+            write_npz(&self.tmp, raw, &self.columns, self.rows)?;
+            let _ = fs::remove_file(raw);
+        }
+        fs::rename(&self.tmp, &self.target)?;
+        Ok(())
+    }
+
+    /// Removes the temporary files; the target is left untouched.
+    pub fn abort(mut self) {
+        self.out = None;
+        self.cleanup();
+    }
+
+    fn cleanup(&mut self) {
+        let _ = fs::remove_file(&self.tmp);
+        if let Some(r) = &self.raw {
+            let _ = fs::remove_file(r);
+        }
+    }
+}
+
+impl RecordSink for FileSink {
+    fn columns(&mut self, columns: &[Column]) -> io::Result<()> {
+        self.columns = columns.to_vec();
+        if self.format == Format::Csv {
+            let header = columns.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(",");
+            let out = self.out()?;
+            writeln!(out, "{header}")?;
+        }
+        Ok(())
+    }
+
+    fn record(&mut self, row: &[f64]) -> io::Result<()> {
+        self.rows += 1;
+        match self.format {
+            Format::Csv => {
+                use std::fmt::Write as _;
+                let mut line = std::mem::take(&mut self.line);
+                line.clear();
+                for (i, v) in row.iter().enumerate() {
+                    if i > 0 {
+                        line.push(',');
+                    }
+                    // `{}` of f64 is the shortest representation that reads back exactly.
+                    let _ = write!(line, "{v}");
+                }
+                line.push('\n');
+                let res = self.out()?.write_all(line.as_bytes());
+                self.line = line;
+                res
+            }
+            Format::Npz => {
+                let out = self.out()?;
+                for v in row {
+                    out.write_all(&v.to_le_bytes())?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+impl Drop for FileSink {
+    fn drop(&mut self) {
+        if self.out.is_some() {
+            self.out = None;
+            self.cleanup();
+        }
+    }
+}
+
+/// The `.npy` (format 1.0) header for `descr` and `shape`.
+fn npy_header(descr: &str, shape: &str) -> Vec<u8> {
+    let dict = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
+    let mut header = dict.into_bytes();
+    // magic (6) + version (2) + length (2) + header + '\n' must be a multiple of 64.
+    let total = 10 + header.len() + 1;
+    let pad = (64 - total % 64) % 64;
+    header.extend(std::iter::repeat_n(b' ', pad));
+    header.push(b'\n');
+    let mut out = Vec::with_capacity(10 + header.len());
+    out.extend_from_slice(b"\x93NUMPY\x01\x00");
+    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    out.extend_from_slice(&header);
+    out
+}
+
+/// A 1-D array of strings as `.npy` (`<U` = UTF-32LE, fixed width).
+fn npy_strings(items: &[&str]) -> Vec<u8> {
+    let width = items.iter().map(|s| s.chars().count()).max().unwrap_or(1).max(1);
+    let mut out = npy_header(&format!("<U{width}"), &format!("({},)", items.len()));
+    for s in items {
+        let mut n = 0;
+        for c in s.chars() {
+            out.extend_from_slice(&(c as u32).to_le_bytes());
+            n += 1;
+        }
+        for _ in n..width {
+            out.extend_from_slice(&0u32.to_le_bytes());
+        }
+    }
+    out
+}
+
+/// Writes the archive: `data` (rows × columns, float64), `columns` and
+/// `units` (strings).
+fn write_npz(path: &Path, raw: &Path, columns: &[Column], rows: u64) -> io::Result<()> {
+    use zip::write::SimpleFileOptions;
+    let file = File::create(path)?;
+    let mut zip = zip::ZipWriter::new(BufWriter::new(file));
+    let opts = SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored).large_file(true);
+    let to_io = |e: zip::result::ZipError| io::Error::other(e.to_string());
+    zip.start_file("data.npy", opts).map_err(to_io)?;
+    zip.write_all(&npy_header("<f8", &format!("({rows}, {})", columns.len())))?;
+    let mut reader = BufReader::with_capacity(1 << 16, File::open(raw)?);
+    let mut buf = vec![0u8; 1 << 16];
+    loop {
+        let n = reader.read(&mut buf)?;
+        if n == 0 {
+            break;
+        }
+        zip.write_all(&buf[..n])?;
+    }
+    let names: Vec<&str> = columns.iter().map(|c| c.name.as_str()).collect();
+    let units: Vec<&str> = columns.iter().map(|c| c.unit).collect();
+    zip.start_file("columns.npy", opts).map_err(to_io)?;
+    zip.write_all(&npy_strings(&names))?;
+    zip.start_file("units.npy", opts).map_err(to_io)?;
+    zip.write_all(&npy_strings(&units))?;
+    let mut inner = zip.finish().map_err(to_io)?;
+    inner.flush()?;
+    inner.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+    Ok(())
+}

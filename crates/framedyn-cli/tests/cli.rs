@@ -1,0 +1,353 @@
+//! The `framedyn` binary: every embedded scene against the library call,
+//! CSV and npz round trips, exit codes and messages, atomic output,
+//! interruption, flat memory on long streamed runs, mutated scene files.
+
+use std::fs;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::sync::atomic::AtomicBool;
+use std::time::{Duration, Instant};
+
+use framedyn::scenes::{example, MemorySink, Scene, DEFAULT_SCENE, EXAMPLES};
+use proptest::prelude::*;
+
+const BIN: &str = env!("CARGO_BIN_EXE_framedyn");
+
+fn tmpdir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("framedyn-cli-{tag}-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&d);
+    fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn framedyn(args: &[&str], dir: &Path) -> Output {
+    Command::new(BIN).args(args).current_dir(dir).stdin(Stdio::null()).output().unwrap()
+}
+
+fn code(o: &Output) -> i32 {
+    o.status.code().unwrap_or(-1)
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// Parses a CSV written by the tool: header and rows of numbers.
+fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| {
+            let r: Vec<f64> = l.split(',').map(|v| v.parse::<f64>().unwrap()).collect();
+            assert_eq!(r.len(), header.len(), "ragged row");
+            r
+        })
+        .collect();
+    (header, rows)
+}
+
+/// Parses one `.npy` member: header dict and payload.
+fn parse_npy(bytes: &[u8]) -> (String, &[u8]) {
+    assert_eq!(&bytes[..6], b"\x93NUMPY");
+    let hlen = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    assert_eq!((10 + hlen) % 64, 0, "npy header not aligned");
+    (String::from_utf8(bytes[10..10 + hlen].to_vec()).unwrap(), &bytes[10 + hlen..])
+}
+
+fn read_npz(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let mut z = zip::ZipArchive::new(fs::File::open(path).unwrap()).unwrap();
+    let mut member = |name: &str| {
+        let mut v = Vec::new();
+        z.by_name(name).unwrap().read_to_end(&mut v).unwrap();
+        v
+    };
+    let data = member("data.npy");
+    let cols = member("columns.npy");
+    let (h, payload) = parse_npy(&data);
+    assert!(h.contains("'descr': '<f8'") && h.contains("'fortran_order': False"), "{h}");
+    let shape = h.split("'shape': (").nth(1).unwrap().split(')').next().unwrap();
+    let dims: Vec<usize> = shape.split(',').filter_map(|s| s.trim().parse().ok()).collect();
+    let (n, m) = (dims[0], dims[1]);
+    assert_eq!(payload.len(), n * m * 8);
+    let vals: Vec<f64> = payload.chunks(8).map(|c| f64::from_le_bytes(c.try_into().unwrap())).collect();
+    let (ch, cp) = parse_npy(&cols);
+    let width: usize = ch.split("'<U").nth(1).unwrap().split('\'').next().unwrap().parse().unwrap();
+    let names: Vec<String> = cp
+        .chunks(4 * width)
+        .map(|c| c.chunks(4).map(|u| u32::from_le_bytes(u.try_into().unwrap())).filter(|&u| u != 0).filter_map(char::from_u32).collect())
+        .collect();
+    assert_eq!(names.len(), m);
+    (names, vals.chunks(m).map(|r| r.to_vec()).collect())
+}
+
+/// Equal values, NaN equal to NaN (coordinates at a chart pole).
+fn same_rows(a: &[Vec<f64>], b: &[Vec<f64>]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| x.len() == y.len() && x.iter().zip(y).all(|(p, q)| p == q || (p.is_nan() && q.is_nan())))
+}
+
+fn library_run(scene: &Scene) -> (framedyn::scenes::RunSummary, MemorySink) {
+    let mut sim = scene.build().unwrap();
+    let mut sink = MemorySink::default();
+    let s = sim.run(&mut sink, &AtomicBool::new(false), &mut |_| {}).unwrap();
+    (s, sink)
+}
+
+/// The number after `key` in the summary.
+fn summary_number(out: &str, key: &str) -> u64 {
+    let line = out.lines().find(|l| l.starts_with(key)).unwrap_or_else(|| panic!("no {key} in {out}"));
+    line[key.len()..].split_whitespace().next().unwrap().parse().unwrap()
+}
+
+/// Every embedded scene through the binary equals the library call: same
+/// summary counts and bit-identical CSV records.
+#[test]
+fn every_embedded_scene_matches_the_library() {
+    let dir = tmpdir("all");
+    for (name, _) in EXAMPLES {
+        let out = dir.join(format!("{name}.csv"));
+        let o = framedyn(&["run", name, "--output", out.to_str().unwrap()], &dir);
+        assert_eq!(code(&o), 0, "{name}: {}", stderr(&o));
+        assert!(stderr(&o).is_empty(), "{name}: no progress bar without a terminal: {}", stderr(&o));
+        let (s, sink) = library_run(&example(name).unwrap());
+        let text = stdout(&o);
+        assert_eq!(summary_number(&text, "steps:"), s.steps, "{name}");
+        assert_eq!(summary_number(&text, "records:"), s.records, "{name}");
+        assert!(text.contains("stop:            finished"), "{text}");
+        let (header, rows) = read_csv(&out);
+        assert_eq!(header, sink.columns.iter().map(|c| c.name.clone()).collect::<Vec<_>>());
+        assert!(same_rows(&rows, &sink.rows), "{name}: CSV differs from the library records");
+    }
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// `run` without a scene runs the default scene into `trajectory.csv`.
+#[test]
+fn default_run_and_listing() {
+    let dir = tmpdir("default");
+    let o = framedyn(&["run"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stdout(&o).contains("trajectory.csv"));
+    let (_, rows) = read_csv(&dir.join("trajectory.csv"));
+    assert!(rows.len() > 100);
+    let o = framedyn(&["scenes"], &dir);
+    assert_eq!(code(&o), 0);
+    for (name, _) in EXAMPLES {
+        assert!(stdout(&o).contains(name));
+    }
+    assert!(stdout(&o).contains(&format!("{DEFAULT_SCENE} ")));
+    let o = framedyn(&["scenes", "show", "s3-gyroscope"], &dir);
+    assert_eq!(code(&o), 0);
+    assert_eq!(stdout(&o), EXAMPLES.iter().find(|(n, _)| *n == "s3-gyroscope").unwrap().1);
+    // The shown scene is a valid starting point.
+    fs::write(dir.join("mine.toml"), stdout(&o)).unwrap();
+    let o = framedyn(&["validate", "mine.toml"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let o = framedyn(&["scenes", "show", "nope"], &dir);
+    assert_eq!(code(&o), 3);
+    assert!(stderr(&o).contains(DEFAULT_SCENE));
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// The npz archive holds the same numbers as the CSV, and numpy reads it.
+#[test]
+fn npz_round_trip() {
+    let dir = tmpdir("npz");
+    let o = framedyn(&["run", "s2-affine-elastic", "--output", "a.csv", "--quiet"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stdout(&o).is_empty(), "--quiet prints nothing");
+    let o = framedyn(&["run", "s2-affine-elastic", "--output", "a.npz", "--quiet"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let (h1, r1) = read_csv(&dir.join("a.csv"));
+    let (h2, r2) = read_npz(&dir.join("a.npz"));
+    assert_eq!(h1, h2);
+    assert!(same_rows(&r1, &r2));
+    // numpy, where available, loads it without pickle.
+    let script = "import numpy as np, sys\nd = np.load(sys.argv[1])\nprint(d['data'].shape[0], d['data'].shape[1], list(d['columns'])[0], float(d['data'][-1, 0]))";
+    if let Ok(out) = Command::new("python3").arg("-c").arg(script).arg(dir.join("a.npz")).output() {
+        if out.status.success() {
+            let s = String::from_utf8_lossy(&out.stdout);
+            let f: Vec<&str> = s.split_whitespace().collect();
+            assert_eq!(f[0].parse::<usize>().unwrap(), r1.len());
+            assert_eq!(f[1].parse::<usize>().unwrap(), h1.len());
+            assert_eq!(f[2], "t");
+            assert_eq!(f[3].parse::<f64>().unwrap(), r1.last().unwrap()[0]);
+        } else {
+            eprintln!("numpy not available: {}", String::from_utf8_lossy(&out.stderr));
+        }
+    }
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// Exit codes and messages: invalid scene (field, line, column), unknown
+/// scene, integration failure with partial output, I/O error.
+#[test]
+fn exit_codes_and_messages() {
+    let dir = tmpdir("codes");
+    let text = EXAMPLES.iter().find(|(n, _)| *n == DEFAULT_SCENE).unwrap().1;
+    fs::write(dir.join("bad.toml"), text.replace("mass = 1.0", "mass = -1.0")).unwrap();
+    fs::write(dir.join("out.csv"), "OLD").unwrap();
+    let o = framedyn(&["run", "bad.toml", "--output", "out.csv"], &dir);
+    assert_eq!(code(&o), 3);
+    let e = stderr(&o);
+    assert!(e.contains("body") && e.contains("-1") && e.contains("> 0") && e.contains("line 10"), "{e}");
+    assert_eq!(fs::read_to_string(dir.join("out.csv")).unwrap(), "OLD", "an invalid scene leaves the output untouched");
+    let o = framedyn(&["validate", "bad.toml"], &dir);
+    assert_eq!(code(&o), 3);
+    fs::write(dir.join("typo.toml"), text.replace("[time]", "[time]\nt_ned = 3.0")).unwrap();
+    let o = framedyn(&["validate", "typo.toml"], &dir);
+    assert_eq!(code(&o), 3);
+    assert!(stderr(&o).contains("t_ned") && stderr(&o).contains("line"), "{}", stderr(&o));
+    let o = framedyn(&["validate", "no-such-scene"], &dir);
+    assert_eq!(code(&o), 3);
+    let o = framedyn(&["run", "--bogus-flag"], &dir);
+    assert_eq!(code(&o), 2);
+    // Integration failure: the step limit is hit after 50 adaptive steps.
+    let failing = text.replace("name = \"rk4\"\nh = 0.005", "name = \"dopri5\"\nrtol = 1e-10\natol = 1e-12\nmax_steps = 50").replace("every = 4", "every = 1");
+    fs::write(dir.join("fail.toml"), &failing).unwrap();
+    let o = framedyn(&["run", "fail.toml", "--output", "partial.csv"], &dir);
+    assert_eq!(code(&o), 4, "{}", stderr(&o));
+    assert!(stderr(&o).contains("maximum number of steps"), "{}", stderr(&o));
+    let (_, rows) = read_csv(&dir.join("partial.csv"));
+    assert_eq!(rows.len(), 51, "the initial state and 50 steps are kept");
+    // I/O error: the output directory does not exist.
+    let o = framedyn(&["run", "--output", "missing/dir/out.csv"], &dir);
+    assert_eq!(code(&o), 5, "{}", stderr(&o));
+    // Garbage bytes.
+    fs::write(dir.join("garbage.toml"), [0xff, 0xfe, 0x00, 0x41]).unwrap();
+    let o = framedyn(&["validate", "garbage.toml"], &dir);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    // JSON scenes.
+    let scene = example("s2-point-kepler").unwrap();
+    fs::write(dir.join("k.json"), scene.to_json_string()).unwrap();
+    let o = framedyn(&["validate", "k.json"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let leftovers: Vec<_> = fs::read_dir(&dir).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().contains(".tmp-")).collect();
+    assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// Interrupting a long run with SIGINT stops it cleanly: exit 130, and the
+/// output is either absent or a complete, valid file (never a torn one).
+#[test]
+fn interrupt_keeps_a_valid_file() {
+    let dir = tmpdir("sigint");
+    let text = EXAMPLES.iter().find(|(n, _)| *n == DEFAULT_SCENE).unwrap().1;
+    fs::write(dir.join("long.toml"), text.replace("t_end = 4.0", "t_end = 400000.0").replace("every = 4", "every = 100")).unwrap();
+    for fmt in ["csv", "npz"] {
+        let out = format!("long.{fmt}");
+        let child = Command::new(BIN).args(["run", "long.toml", "--output", &out]).current_dir(&dir).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+        std::thread::sleep(Duration::from_millis(1500));
+        let st = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+        assert!(st.success());
+        let o = child.wait_with_output().unwrap();
+        assert_eq!(code(&o), 130, "{}", stderr(&o));
+        assert!(stderr(&o).contains("interrupted"), "{}", stderr(&o));
+        let path = dir.join(&out);
+        let rows = if fmt == "csv" { read_csv(&path).1 } else { read_npz(&path).1 };
+        assert!(!rows.is_empty());
+        let t: Vec<f64> = rows.iter().map(|r| r[0]).collect();
+        assert!(t.windows(2).all(|w| w[1] > w[0]));
+        assert!(*t.last().unwrap() < 400000.0);
+    }
+    let leftovers: Vec<_> = fs::read_dir(&dir).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().starts_with('.')).collect();
+    assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// Peak resident memory (kB) of a run, polled from /proc while it runs.
+fn peak_rss_kb(args: &[&str], dir: &Path) -> (u64, Output) {
+    let mut child = Command::new(BIN).args(args).current_dir(dir).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let status = format!("/proc/{}/status", child.id());
+    let mut peak = 0u64;
+    let start = Instant::now();
+    loop {
+        if let Ok(s) = fs::read_to_string(&status) {
+            for l in s.lines() {
+                if let Some(v) = l.strip_prefix("VmHWM:").or_else(|| l.strip_prefix("VmRSS:")) {
+                    if let Some(kb) = v.split_whitespace().next().and_then(|x| x.parse::<u64>().ok()) {
+                        peak = peak.max(kb);
+                    }
+                }
+            }
+        }
+        if child.try_wait().unwrap().is_some() || start.elapsed() > Duration::from_secs(300) {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    (peak, child.wait_with_output().unwrap())
+}
+
+/// Memory stays flat on a long streamed run: ten times the records (tens of
+/// megabytes of output) cost no more resident memory.
+#[test]
+fn streaming_memory_is_flat() {
+    if !Path::new("/proc/self/status").exists() {
+        eprintln!("no /proc: skipped");
+        return;
+    }
+    let dir = tmpdir("rss");
+    let text = EXAMPLES.iter().find(|(n, _)| *n == "s2-point-kepler").unwrap().1;
+    let make = |steps: u64, name: &str| {
+        let t_end = steps as f64 * 0.005;
+        fs::write(
+            dir.join(name),
+            text.replace("t_end = 10.0", &format!("t_end = {t_end}")).replace("every = 10", "every = 1\nquantities = [\"position\"]"),
+        )
+        .unwrap();
+    };
+    make(100_000, "short.toml");
+    make(1_000_000, "long.toml");
+    for fmt in ["csv", "npz"] {
+        let (small, o1) = peak_rss_kb(&["run", "short.toml", "--quiet", "--output", &format!("short.{fmt}")], &dir);
+        assert_eq!(code(&o1), 0, "{}", stderr(&o1));
+        let (large, o2) = peak_rss_kb(&["run", "long.toml", "--quiet", "--output", &format!("long.{fmt}")], &dir);
+        assert_eq!(code(&o2), 0, "{}", stderr(&o2));
+        let size = fs::metadata(dir.join(format!("long.{fmt}"))).unwrap().len();
+        // 1e6 records of 4 numbers: 32 MB as f64 in memory.
+        assert!(size > 30_000_000, "{fmt}: output {size} bytes");
+        eprintln!("{fmt}: peak RSS {small} kB for 1e5 records, {large} kB for 1e6 ({size} bytes written)");
+        assert!(large < small + 8_000, "{fmt}: peak RSS {small} kB for 1e5 records, {large} kB for 1e6");
+    }
+    let _ = fs::remove_dir_all(&dir);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+    /// Mutated scene files (wrong types, out-of-range values, missing and
+    /// unknown fields, garbage bytes) never crash the tool: a clean exit
+    /// code with a message.
+    #[test]
+    fn mutated_scene_files_never_panic(
+        pos in 0usize..900,
+        len in 0usize..12,
+        junk in proptest::collection::vec(any::<u8>(), 0..10),
+        choice in 0usize..6,
+    ) {
+        let dir = tmpdir(&format!("prop{}", pos * 1000 + len));
+        let text = EXAMPLES.iter().find(|(n, _)| *n == DEFAULT_SCENE).unwrap().1.as_bytes().to_vec();
+        let mutated: Vec<u8> = match choice {
+            0 => { let s = pos.min(text.len()); let e = (s + len).min(text.len()); [&text[..s], &junk[..], &text[e..]].concat() }
+            1 => String::from_utf8_lossy(&text).replace("mass = 1.0", "mass = [1, 2]").into_bytes(),
+            2 => String::from_utf8_lossy(&text).replace("t_end = 4.0", "").into_bytes(),
+            3 => String::from_utf8_lossy(&text).replace("[output]", "[output]\ncolour = \"red\"").into_bytes(),
+            4 => String::from_utf8_lossy(&text).replace("radius = 1.0", &format!("radius = {}", -(pos as f64))).into_bytes(),
+            _ => junk.clone(),
+        };
+        fs::write(dir.join("m.toml"), &mutated).unwrap();
+        let o = framedyn(&["validate", "m.toml"], &dir);
+        let c = code(&o);
+        prop_assert!(c == 0 || c == 3, "exit {c}: {}", stderr(&o));
+        prop_assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+        if c == 3 { prop_assert!(stderr(&o).contains("invalid scene") || stderr(&o).contains("no scene")); }
+        if choice >= 1 && choice <= 3 { prop_assert_eq!(c, 3); }
+        let _ = fs::remove_dir_all(&dir);
+    }
+}
