@@ -16,8 +16,13 @@ def main(argv: Optional[List[str]] = None) -> int:
     """Runs the command line ``argv`` (default ``sys.argv``); returns the exit code."""
     args = list(sys.argv if argv is None else ["framedyn", *argv])
     cli_main = getattr(_framedyn, "cli_main", None)
-    if cli_main is None:  # pragma: no cover - only in a build without the CLI
-        print("framedyn: this build has no command-line tool", file=sys.stderr)
+    if cli_main is None:
+        print(
+            "framedyn: the command-line tool is not bound into this build of the Python module "
+            "(it needs the library entry point framedyn_cli::main_with_args); "
+            "run it from the source tree with `cargo run -p framedyn-cli -- ...`",
+            file=sys.stderr,
+        )
         return 2
     return int(cli_main(args))
 
