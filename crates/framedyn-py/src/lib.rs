@@ -2,7 +2,7 @@
 //!
 //! Thin by design: registration, conversion between Rust values and numpy
 //! arrays, and error mapping. Every entry point that computes releases the
-//! GIL and catches Rust panics ([`errors::guard`]); Rust errors arrive as the
+//! GIL and catches Rust panics (`errors::guard`); Rust errors arrive as the
 //! exception classes of `framedyn._errors`. The Python package
 //! `python/framedyn` wraps these names (`Scene`, `solve`, `solve_batch`,
 //! `Stepper`) and adds the pure-Python helpers (plotting, Dask ensembles).
