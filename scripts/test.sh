@@ -1,12 +1,39 @@
 #!/usr/bin/env bash
 # The whole test suite (the README's test command). Rust: every crate of the
 # workspace in one shared dev profile (dependencies optimised, see Cargo.toml),
-# unit tests, the integration suite, doctests and examples.
+# unit tests, the integration suite, doctests and examples. Python: the
+# extension is built by maturin from the same target directory and profile
+# (the environment below makes pyo3's build configuration identical, so the
+# dependency stack is compiled once), installed into `.venv/`, and tested with
+# pytest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PROPTEST_CASES="${PROPTEST_CASES:-256}"
 # Reproducible property tests in CI; set PROPTEST_RNG_SEED=random (or any
 # other number) to explore new cases.
 if [ "${PROPTEST_RNG_SEED:-}" = random ]; then unset PROPTEST_RNG_SEED; else export PROPTEST_RNG_SEED="${PROPTEST_RNG_SEED:-20261122}"; fi
+
+./scripts/python-env.sh
+export FRAMEDYN_VENV="${FRAMEDYN_VENV:-$PWD/.venv}"
+PY="$FRAMEDYN_VENV/bin/python"
+# What maturin sets when it builds the extension; set for cargo too, so that
+# pyo3's build script sees the same configuration and nothing is rebuilt.
+export VIRTUAL_ENV="$FRAMEDYN_VENV"
+export PYO3_PYTHON="$PY"
+export PYTHON_SYS_EXECUTABLE="$PY"
+export PYO3_BUILD_EXTENSION_MODULE=1
+PYO3_ENVIRONMENT_SIGNATURE="$("$PY" - <<'PYEOF'
+import platform, struct
+impl = platform.python_implementation().lower()
+major, minor = platform.python_version_tuple()[:2]
+print(f"{impl}-{major}.{minor}-{struct.calcsize('P') * 8}bit")
+PYEOF
+)"
+export PYO3_ENVIRONMENT_SIGNATURE
+
 cargo test --workspace --all-targets
 cargo test --workspace --doc
+
+"$FRAMEDYN_VENV/bin/maturin" develop --quiet
+# The Agg backend: the plotting tests draw without a display.
+MPLBACKEND=Agg "$PY" -m pytest python/tests -q

@@ -1,0 +1,27 @@
+//! Python bindings of framedyn: the `framedyn._framedyn` extension module.
+//!
+//! Thin by design: registration, conversion between Rust values and numpy
+//! arrays, and error mapping. Every entry point that computes releases the
+//! GIL and catches Rust panics (`errors::guard`); Rust errors arrive as the
+//! exception classes of `framedyn._errors`. The Python package
+//! `python/framedyn` wraps these names (`Scene`, `solve`, `solve_batch`,
+//! `Stepper`) and adds the pure-Python helpers (plotting, Dask ensembles).
+#![deny(missing_docs)]
+
+use pyo3::prelude::*;
+
+mod errors;
+mod run;
+mod scene;
+
+/// The extension module `framedyn._framedyn`.
+#[pymodule]
+fn _framedyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<scene::PyScene>()?;
+    m.add_class::<run::PyStepper>()?;
+    m.add_function(wrap_pyfunction!(run::run, m)?)?;
+    m.add_function(wrap_pyfunction!(run::run_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(errors::raise_for_test, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,366 @@
+//! Running scenes: one run, a parallel batch (rayon) and the stepping object,
+//! always with the GIL released. Records arrive as one row-major `f64`
+//! buffer that becomes a numpy array without a copy.
+
+use std::io;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+
+use framedyn::scenes::{Column, Progress, RecordSink, RunError, RunSummary, Scene, SceneError, SceneStop, Simulation, UserPotentialFn};
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rayon::prelude::*;
+
+use crate::errors::{err, guard, internal, run_err, scene_err, solve_err, Kind};
+use crate::scene::PyScene;
+
+/// A sink keeping every record in one row-major buffer.
+#[derive(Default)]
+struct FlatSink {
+    columns: Vec<Column>,
+    data: Vec<f64>,
+    rows: usize,
+}
+
+impl RecordSink for FlatSink {
+    fn columns(&mut self, columns: &[Column]) -> io::Result<()> {
+        self.columns = columns.to_vec();
+        Ok(())
+    }
+    fn record(&mut self, row: &[f64]) -> io::Result<()> {
+        self.data.extend_from_slice(row);
+        self.rows += 1;
+        Ok(())
+    }
+}
+
+/// The first Python exception raised by a user potential (later calls
+/// return NaN at once, so the run stops at the next step).
+type ErrorSlot = Arc<Mutex<Option<PyErr>>>;
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// A Python callable `V(x, e) -> float` as the core's user potential: `x`
+/// the embedding position (shape `(E,)`), `e` the body frame vectors as rows
+/// (shape `(N, E)`). Each call takes the GIL.
+fn user_potential(py: Python<'_>, callable: Option<Py<PyAny>>) -> PyResult<Option<(UserPotentialFn, ErrorSlot)>> {
+    let Some(callable) = callable else { return Ok(None) };
+    if !callable.bind(py).is_callable() {
+        let tname = callable.bind(py).get_type().name().map(|n| n.to_string()).unwrap_or_default();
+        return Err(err(py, Kind::Invalid, format!("user_potential: a {tname} is not callable; allowed: a callable V(x, e) -> float")));
+    }
+    let slot: ErrorSlot = Arc::new(Mutex::new(None));
+    let slot2 = slot.clone();
+    let f: UserPotentialFn = Arc::new(move |x: &[f64], e: &[f64]| -> f64 {
+        if lock(&slot2).is_some() {
+            return f64::NAN;
+        }
+        Python::attach(|py| {
+            let result = (|| -> PyResult<f64> {
+                let xa = PyArray1::from_slice(py, x);
+                let n = if x.is_empty() { 0 } else { e.len() / x.len() };
+                let ea = PyArray1::from_slice(py, e).reshape([n, x.len()])?;
+                callable.call1(py, (xa, ea))?.extract::<f64>(py)
+            })();
+            match result {
+                Ok(v) => v,
+                Err(e) => {
+                    lock(&slot2).get_or_insert(e);
+                    f64::NAN
+                }
+            }
+        })
+    });
+    Ok(Some((f, slot)))
+}
+
+/// What one run produced.
+struct RunOutput {
+    sink: FlatSink,
+    summary: RunSummary,
+    error: Option<RunError>,
+}
+
+/// Builds and runs `scene` (no GIL needed unless a user potential is called).
+fn run_scene(scene: &Scene, user: Option<UserPotentialFn>, cancel: &AtomicBool, progress: &mut dyn FnMut(&Progress)) -> Result<RunOutput, SceneError> {
+    let mut sim = match user {
+        None => scene.build()?,
+        Some(f) => scene.build_with_user_potential(f)?,
+    };
+    let mut sink = FlatSink::default();
+    Ok(match sim.run(&mut sink, cancel, progress) {
+        Ok(summary) => RunOutput { sink, summary, error: None },
+        Err(failure) => RunOutput { sink, summary: failure.summary, error: Some(failure.error) },
+    })
+}
+
+fn stop_kind(stop: &SceneStop) -> &'static str {
+    match stop {
+        SceneStop::Finished => "finished",
+        SceneStop::Cancelled => "cancelled",
+        SceneStop::Failed(_) => "failed",
+        SceneStop::OutputError(_) => "output_error",
+    }
+}
+
+/// The Python form of a run: `{"data": (rows, columns) array, "columns",
+/// "units", "summary": {...}}`.
+fn to_py<'py>(py: Python<'py>, sink: FlatSink, summary: &RunSummary) -> PyResult<Bound<'py, PyDict>> {
+    let ncols = sink.columns.len();
+    let data = PyArray1::from_vec(py, sink.data).reshape([sink.rows, ncols])?;
+    let d = PyDict::new(py);
+    d.set_item("data", data)?;
+    d.set_item("columns", sink.columns.iter().map(|c| c.name.clone()).collect::<Vec<_>>())?;
+    d.set_item("units", sink.columns.iter().map(|c| c.unit).collect::<Vec<_>>())?;
+    let s = PyDict::new(py);
+    s.set_item("method", summary.method)?;
+    s.set_item("steps", summary.steps)?;
+    s.set_item("rejected", summary.rejected)?;
+    s.set_item("rhs_evals", summary.rhs_evals)?;
+    s.set_item("records", summary.records)?;
+    s.set_item("wall_time", summary.wall_time.as_secs_f64())?;
+    s.set_item("energy_initial", summary.energy_initial)?;
+    s.set_item("energy_drift", summary.energy_drift)?;
+    s.set_item("relative_energy_drift", summary.relative_energy_drift())?;
+    s.set_item("max_defect", summary.max_defect)?;
+    s.set_item("t_reached", summary.t_reached)?;
+    s.set_item("stop", stop_kind(&summary.stop))?;
+    s.set_item("message", summary.stop.to_string())?;
+    d.set_item("summary", s)?;
+    Ok(d)
+}
+
+/// One run's result for Python: the result dict, or the exception to raise
+/// (an `IntegrationError` carries the partial result as `partial`; an
+/// exception raised by a user potential is re-raised as it is, with the
+/// partial result attached when possible).
+fn finish<'py>(py: Python<'py>, out: Result<Result<RunOutput, SceneError>, String>, slot: Option<&ErrorSlot>) -> PyResult<Bound<'py, PyDict>> {
+    let out = match out {
+        Err(panic) => return Err(internal(py, panic)),
+        Ok(Err(e)) => return Err(scene_err(py, &e)),
+        Ok(Ok(out)) => out,
+    };
+    let user_error = slot.and_then(|s| lock(s).take());
+    let result = to_py(py, out.sink, &out.summary)?;
+    match (out.error, user_error) {
+        (None, None) => Ok(result),
+        (error, Some(user)) => {
+            // The user's own exception explains the failure better than the
+            // non-finite value it left behind.
+            let value = user.value(py);
+            let _ = value.setattr("partial", &result);
+            if let Some(e) = error {
+                let _ = value.setattr("framedyn_error", e.to_string());
+            }
+            Err(user)
+        }
+        (Some(error), None) => {
+            let e = run_err(py, &error);
+            e.value(py).setattr("partial", &result)?;
+            Err(e)
+        }
+    }
+}
+
+/// Runs one scene with the GIL released: `{"data", "columns", "units",
+/// "summary"}`. Ctrl-C (SIGINT) is noticed within about 50 ms: the run stops
+/// and `KeyboardInterrupt` is raised.
+#[pyfunction]
+#[pyo3(signature = (scene, user_potential = None))]
+pub fn run<'py>(py: Python<'py>, scene: PyRef<'py, PyScene>, user_potential: Option<Py<PyAny>>) -> PyResult<Bound<'py, PyDict>> {
+    let user = self::user_potential(py, user_potential)?;
+    let (f, slot) = match user {
+        Some((f, s)) => (Some(f), Some(s)),
+        None => (None, None),
+    };
+    let scene = scene.inner.clone();
+    let cancel = AtomicBool::new(false);
+    let mut interrupt: Option<PyErr> = None;
+    let out = py.detach(|| {
+        guard(|| {
+            let mut progress = |_: &Progress| {
+                if interrupt.is_none() {
+                    if let Err(e) = Python::attach(|py| py.check_signals()) {
+                        interrupt = Some(e);
+                        cancel.store(true, Ordering::Relaxed);
+                    }
+                }
+            };
+            run_scene(&scene, f, &cancel, &mut progress)
+        })
+    });
+    if let Some(e) = interrupt {
+        return Err(e);
+    }
+    finish(py, out, slot.as_ref())
+}
+
+/// Runs many scenes in parallel (rayon, GIL released) and returns, per
+/// scene in order, the result dict or the exception it failed with (not
+/// raised: the Python wrapper decides). `threads`: size of the thread pool
+/// (default: rayon's global pool, one thread per core).
+#[pyfunction]
+#[pyo3(signature = (scenes, user_potential = None, threads = None))]
+pub fn run_batch<'py>(
+    py: Python<'py>,
+    scenes: Vec<PyRef<'py, PyScene>>,
+    user_potential: Option<Py<PyAny>>,
+    threads: Option<usize>,
+) -> PyResult<Vec<Py<PyAny>>> {
+    if threads == Some(0) {
+        return Err(err(py, Kind::Invalid, "threads = 0: must be ≥ 1 (or None for one per core)"));
+    }
+    let user = self::user_potential(py, user_potential)?;
+    let scenes: Vec<Scene> = scenes.iter().map(|s| s.inner.clone()).collect();
+    let f = user.as_ref().map(|(f, _)| f.clone());
+    let pool = match threads {
+        Some(n) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| err(py, Kind::Internal, format!("cannot start {n} threads: {e}")))?,
+        ),
+        None => None,
+    };
+    let outs: Vec<Result<Result<RunOutput, SceneError>, String>> = py.detach(|| {
+        let work = || {
+            scenes
+                .par_iter()
+                .map(|s| guard(|| run_scene(s, f.clone(), &AtomicBool::new(false), &mut |_| {})))
+                .collect::<Vec<_>>()
+        };
+        match &pool {
+            Some(p) => p.install(work),
+            None => work(),
+        }
+    });
+    let slot = user.as_ref().map(|(_, s)| s);
+    outs.into_iter()
+        .map(|o| match finish(py, o, slot) {
+            Ok(d) => Ok(d.into_any().unbind()),
+            Err(e) => Ok(e.into_value(py).into_any()),
+        })
+        .collect()
+}
+
+/// A built scene advanced step by step (the stepping API): `step(h)`,
+/// `advance(h, n)`, the current record as an array, `reset()`.
+#[pyclass(name = "Stepper", module = "framedyn._framedyn", frozen)]
+pub struct PyStepper {
+    sim: Mutex<Simulation>,
+    columns: Vec<(String, &'static str)>,
+    slot: Option<ErrorSlot>,
+}
+
+impl PyStepper {
+    fn with<T: Send>(&self, py: Python<'_>, f: impl FnOnce(&mut Simulation) -> Result<T, framedyn::solve::SolveError> + Send) -> PyResult<T> {
+        let out = py.detach(|| guard(|| f(&mut lock(&self.sim))));
+        let user_error = self.slot.as_ref().and_then(|s| lock(s).take());
+        match out {
+            Err(panic) => Err(internal(py, panic)),
+            Ok(Ok(v)) => Ok(v),
+            Ok(Err(e)) => match user_error {
+                Some(u) => Err(u),
+                None => Err(solve_err(py, &e)),
+            },
+        }
+    }
+}
+
+#[pymethods]
+impl PyStepper {
+    /// Builds `scene` (with an optional Python user potential `V(x, e)`) at
+    /// its initial state.
+    #[new]
+    #[pyo3(signature = (scene, user_potential = None))]
+    fn new(py: Python<'_>, scene: PyRef<'_, PyScene>, user_potential: Option<Py<PyAny>>) -> PyResult<Self> {
+        let user = self::user_potential(py, user_potential)?;
+        let scene = scene.inner.clone();
+        let (f, slot) = match user {
+            Some((f, s)) => (Some(f), Some(s)),
+            None => (None, None),
+        };
+        let built = py.detach(|| {
+            guard(|| match f {
+                None => scene.build(),
+                Some(f) => scene.build_with_user_potential(f),
+            })
+        });
+        let sim = match built {
+            Err(panic) => return Err(internal(py, panic)),
+            Ok(Err(e)) => {
+                if let Some(u) = slot.as_ref().and_then(|s| lock(s).take()) {
+                    return Err(u);
+                }
+                return Err(scene_err(py, &e));
+            }
+            Ok(Ok(sim)) => sim,
+        };
+        let columns = sim.columns().iter().map(|c| (c.name.clone(), c.unit)).collect();
+        Ok(PyStepper { sim: Mutex::new(sim), columns, slot })
+    }
+
+    /// One step of size `h` (finite, non-zero; negative goes backwards).
+    fn step(&self, py: Python<'_>, h: f64) -> PyResult<()> {
+        self.with(py, |s| s.step(h))
+    }
+
+    /// `n` steps of size `h`; stops at the first failure (the steps before
+    /// it stay done).
+    fn advance(&self, py: Python<'_>, h: f64, n: usize) -> PyResult<()> {
+        self.with(py, |s| s.advance(h, n))
+    }
+
+    /// Current time.
+    #[getter]
+    fn t(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |s| Ok(s.t()))
+    }
+
+    /// Energy of the current state.
+    #[getter]
+    fn energy(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |s| Ok(s.energy()))
+    }
+
+    /// Constraint defect of the current state.
+    #[getter]
+    fn defect(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |s| Ok(s.defect()))
+    }
+
+    /// The scene's time span `(t0, t_end)`.
+    #[getter]
+    fn span(&self, py: Python<'_>) -> PyResult<(f64, f64)> {
+        self.with(py, |s| Ok(s.span()))
+    }
+
+    /// The method's name.
+    #[getter]
+    fn method(&self, py: Python<'_>) -> PyResult<&'static str> {
+        self.with(py, |s| Ok(s.method_name()))
+    }
+
+    /// `(name, unit)` of each entry of `row()`.
+    #[getter]
+    fn columns(&self) -> Vec<(String, &'static str)> {
+        self.columns.clone()
+    }
+
+    /// The current state as one record (the scene's output columns).
+    fn row<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let row = self.with(py, |s| Ok(s.row()))?;
+        Ok(PyArray1::from_vec(py, row))
+    }
+
+    /// Back to the initial state.
+    fn reset(&self, py: Python<'_>) -> PyResult<()> {
+        self.with(py, |s| {
+            s.reset();
+            Ok(())
+        })
+    }
+}

@@ -1,0 +1,231 @@
+"""``framedyn.Solution``: the records of a run as numpy arrays."""
+
+from __future__ import annotations
+
+import re
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
+
+import numpy as np
+
+__all__ = ["Solution", "BatchSolution"]
+
+_POS = re.compile(r"^x(\d+)$")
+_VEL = re.compile(r"^v(\d+)$")
+_FRAME = re.compile(r"^e(\d+)_(\d+)$")
+_MOMENTUM_MAP = re.compile(r"^(p_phi|J_\d\d)$")
+_MOMENTA = re.compile(r"^(spin(_\d)?|k_\d\d)$")
+
+
+class Solution:
+    """The records of one run.
+
+    ``data`` is the ``(records, columns)`` array the core produced (no copy);
+    every other array is a view into it:
+
+    - ``t``: times, shape ``(n,)``;
+    - ``position``, ``velocity``: embedding coordinates, ``(n, E)`` (E = 3;
+      4 on S³; H² in Minkowski space ℝ^{2,1});
+    - ``frame``: the body frame vectors ``e_A`` in embedding components,
+      ``(n, N, E)`` (N = 2 on surfaces, 3 on S³; absent for points);
+    - ``coordinates``: the paper's chart coordinates and rates by name
+      (``r, phi, r_dot, phi_dot`` on S²/H², ``theta, phi, …`` on T²,
+      ``r1, r2, r3, …`` on S³; NaN where the chart is singular), plus
+      ``alpha`` (gyroscope angle) or ``stretch_*`` (affine bodies);
+    - ``momenta``: ``spin`` / ``spin_1..3`` or the hypermomentum ``k_AB``;
+    - ``energy``, ``defect``: shape ``(n,)``;
+    - ``momentum_maps``: ``p_phi`` (S², H², T²) or ``J_ab`` (S³);
+    - ``stats``: steps, rejected steps, vector-field evaluations, wall time,
+      energy drift, maximal defect, why the run stopped.
+
+    ``solution["name"]`` gives any column by name; ``columns`` and
+    ``units`` describe them.
+    """
+
+    __slots__ = ("data", "columns", "units", "stats", "_index", "error")
+
+    def __init__(self, data: np.ndarray, columns: Sequence[str], units: Sequence[str], stats: Mapping[str, Any]) -> None:
+        self.data: np.ndarray = data
+        self.columns: List[str] = list(columns)
+        self.units: List[str] = list(units)
+        self.stats: Dict[str, Any] = dict(stats)
+        self._index = {c: i for i, c in enumerate(self.columns)}
+        #: For a failed member of a batch run with ``on_error="keep"``: the exception.
+        self.error: Optional[BaseException] = None
+
+    @classmethod
+    def _from_raw(cls, raw: Mapping[str, Any]) -> "Solution":
+        return cls(raw["data"], raw["columns"], raw["units"], raw["summary"])
+
+    # -- columns ----------------------------------------------------------------
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        try:
+            return self.data[:, self._index[name]]
+        except KeyError:
+            raise KeyError(f"no column {name!r}; columns: {', '.join(self.columns)}") from None
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._index
+
+    def __len__(self) -> int:
+        return int(self.data.shape[0])
+
+    def unit(self, name: str) -> str:
+        """The unit of column ``name`` (in L, T, M)."""
+        return self.units[self._index[name]]
+
+    def _group(self, pattern: "re.Pattern[str]") -> List[Tuple[int, Tuple[int, ...]]]:
+        out = []
+        for i, c in enumerate(self.columns):
+            m = pattern.match(c)
+            if m:
+                out.append((i, tuple(int(g) for g in m.groups() if g is not None and g.isdigit())))
+        return out
+
+    def _cols(self, idx: List[int]) -> np.ndarray:
+        if not idx:
+            return np.empty((len(self), 0))
+        if idx == list(range(idx[0], idx[-1] + 1)):
+            return self.data[:, idx[0] : idx[-1] + 1]
+        return self.data[:, idx]
+
+    @property
+    def t(self) -> np.ndarray:
+        """Times, shape ``(n,)``."""
+        return self["t"]
+
+    @property
+    def position(self) -> np.ndarray:
+        """Embedding positions, shape ``(n, E)``."""
+        return self._cols([i for i, _ in self._group(_POS)])
+
+    @property
+    def velocity(self) -> np.ndarray:
+        """Embedding velocities, shape ``(n, E)``."""
+        return self._cols([i for i, _ in self._group(_VEL)])
+
+    @property
+    def frame(self) -> np.ndarray:
+        """Body frame vectors ``e_A`` (embedding components), shape ``(n, N, E)``."""
+        g = self._group(_FRAME)
+        if not g:
+            return np.empty((len(self), 0, 0))
+        n_vec = max(k[0] for _, k in g)
+        n_emb = max(k[1] for _, k in g) + 1
+        return self._cols([i for i, _ in g]).reshape(len(self), n_vec, n_emb)
+
+    @property
+    def coordinates(self) -> Dict[str, np.ndarray]:
+        """The paper's coordinates and rates (and ``alpha`` / ``stretch_*``) by name."""
+        known = (_POS, _VEL, _FRAME, _MOMENTUM_MAP, _MOMENTA)
+        return {
+            c: self.data[:, i]
+            for i, c in enumerate(self.columns)
+            if c not in ("t", "energy", "defect") and not any(p.match(c) for p in known)
+        }
+
+    @property
+    def momenta(self) -> Dict[str, np.ndarray]:
+        """Momenta of the internal motion (spin, hypermomentum) by name."""
+        return {self.columns[i]: self.data[:, i] for i, _ in self._group(_MOMENTA)}
+
+    @property
+    def momentum_maps(self) -> Dict[str, np.ndarray]:
+        """Momentum maps (``p_phi``; ``J_ab`` on S³) by name."""
+        return {self.columns[i]: self.data[:, i] for i, _ in self._group(_MOMENTUM_MAP)}
+
+    @property
+    def energy(self) -> np.ndarray:
+        """Total energy ``T + V``, shape ``(n,)``."""
+        return self["energy"]
+
+    @property
+    def defect(self) -> np.ndarray:
+        """Constraint defect, shape ``(n,)``."""
+        return self["defect"]
+
+    def drift(self, name: str = "energy") -> np.ndarray:
+        """``|q(t) − q(t₀)|`` of the column ``name`` (an invariant)."""
+        q = self[name]
+        return np.abs(q - q[0])
+
+    def __repr__(self) -> str:
+        return f"Solution({len(self)} records, {len(self.columns)} columns, stop={self.stats.get('stop')!r})"
+
+    def __reduce__(self) -> Any:
+        return (_rebuild, (self.data, self.columns, self.units, self.stats, self.error))
+
+
+def _rebuild(data: np.ndarray, columns: List[str], units: List[str], stats: Dict[str, Any], error: Optional[BaseException]) -> Solution:
+    s = Solution(data, columns, units, stats)
+    s.error = error
+    return s
+
+
+class BatchSolution(Sequence[Solution]):
+    """The solutions of a batch, in order, with stacked arrays.
+
+    Indexing gives the single :class:`Solution`; ``stack(name)`` and the
+    properties ``t``, ``position``, ``energy``, … stack the members along a
+    new first axis (all members must have the same number of records, as
+    with ``output.samples`` or ``output.times``).
+    """
+
+    def __init__(self, solutions: Sequence[Solution]) -> None:
+        self.solutions: List[Solution] = list(solutions)
+
+    def __getitem__(self, i: Any) -> Any:
+        return self.solutions[i]
+
+    def __len__(self) -> int:
+        return len(self.solutions)
+
+    def stack(self, attr: str) -> np.ndarray:
+        """The attribute or column ``attr`` of every member, stacked:
+        shape ``(batch, n, …)``."""
+        arrays = [getattr(s, attr) if hasattr(Solution, attr) else s[attr] for s in self.solutions]
+        lengths = {a.shape[0] for a in arrays}
+        if len(lengths) > 1:
+            raise ValueError(
+                f"cannot stack `{attr}`: the members have different numbers of records {sorted(lengths)}; "
+                "use output.samples or output.times for equal records"
+            )
+        return np.stack(arrays)
+
+    @property
+    def data(self) -> np.ndarray:
+        """All records, shape ``(batch, n, columns)``."""
+        return self.stack("data")
+
+    @property
+    def t(self) -> np.ndarray:
+        """Times, shape ``(batch, n)``."""
+        return self.stack("t")
+
+    @property
+    def position(self) -> np.ndarray:
+        """Embedding positions, shape ``(batch, n, E)``."""
+        return self.stack("position")
+
+    @property
+    def frame(self) -> np.ndarray:
+        """Body frames, shape ``(batch, n, N, E)``."""
+        return self.stack("frame")
+
+    @property
+    def energy(self) -> np.ndarray:
+        """Energies, shape ``(batch, n)``."""
+        return self.stack("energy")
+
+    @property
+    def defect(self) -> np.ndarray:
+        """Constraint defects, shape ``(batch, n)``."""
+        return self.stack("defect")
+
+    @property
+    def errors(self) -> List[Optional[BaseException]]:
+        """The exception of each member (``None`` where it succeeded)."""
+        return [s.error for s in self.solutions]
+
+    def __repr__(self) -> str:
+        return f"BatchSolution({len(self)} runs)"

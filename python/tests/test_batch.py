@@ -1,0 +1,115 @@
+"""framedyn.solve_batch: parallel runs identical to single runs, parameter
+sets, stacked arrays, failures per member, and the GIL released."""
+
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import framedyn as fd
+
+from conftest import SCENES, gyro_s2
+
+
+def test_batch_equals_loop_of_single_runs():
+    scenes = [SCENES[k]() for k in sorted(SCENES)] * 2
+    batch = fd.solve_batch(scenes, threads=2)
+    assert len(batch) == len(scenes)
+    for s, b in zip(scenes, batch):
+        single = fd.solve(s)
+        assert b.columns == single.columns
+        # Bit for bit: the same deterministic computation on another thread.
+        assert np.array_equal(b.data, single.data)
+        assert b.stats["steps"] == single.stats["steps"]
+
+
+def test_parameter_sets_and_stacking():
+    base = gyro_s2(output={"samples": 11})
+    params = [{"initial.r": r, "initial.spin": s} for r in (0.3, 0.6, 0.9) for s in (0.0, 0.1)]
+    batch = fd.solve_batch(base, params)
+    assert batch.position.shape == (6, 11, 3)
+    assert batch.frame.shape == (6, 11, 2, 3)
+    assert batch.energy.shape == batch.t.shape == batch.defect.shape == (6, 11)
+    assert batch.data.shape[:2] == (6, 11)
+    assert batch.stack("spin").shape == (6, 11)
+    for p, b in zip(params, batch):
+        assert b.coordinates["r"][0] == pytest.approx(p["initial.r"], abs=1e-12)
+        assert np.array_equal(b.data, fd.solve(base.with_params(p)).data)
+    assert batch.errors == [None] * 6
+
+
+def test_stacking_needs_equal_records():
+    batch = fd.solve_batch([gyro_s2(t_end=1.0), gyro_s2(t_end=2.0)])
+    with pytest.raises(ValueError, match="different numbers of records"):
+        batch.position
+
+
+def test_default_threads_and_single_scene():
+    s = gyro_s2()
+    assert np.array_equal(fd.solve_batch(s)[0].data, fd.solve(s).data)
+    assert np.array_equal(fd.solve_batch([s, s]).data[1], fd.solve(s).data)
+
+
+def test_failures_raise_or_are_kept():
+    good = gyro_s2()
+    bad = gyro_s2(method={"name": "dopri5", "rtol": 1e-12, "atol": 1e-14, "max_steps": 5})
+    with pytest.raises(fd.IntegrationError) as ei:
+        fd.solve_batch([good, bad, good])
+    assert ei.value.index == 1
+    assert isinstance(ei.value.partial, fd.Solution)
+    kept = fd.solve_batch([good, bad, good], on_error="keep")
+    assert kept.errors[0] is None and kept.errors[2] is None
+    assert isinstance(kept.errors[1], fd.IntegrationError)
+    assert kept[1].stats["stop"] == "failed" and len(kept[1]) >= 1
+
+
+def test_invalid_member_names_its_index():
+    with pytest.raises(fd.InvalidInputError, match=r"scenes\[1\]"):
+        fd.solve_batch([gyro_s2(), "not a scene"])
+    with pytest.raises(fd.InvalidInputError, match="threads"):
+        fd.solve_batch([gyro_s2()], threads=0)
+    with pytest.raises(fd.InvalidInputError, match="on_error"):
+        fd.solve_batch([gyro_s2()], on_error="ignore")
+    with pytest.raises(fd.InvalidInputError, match="params"):
+        fd.solve_batch([gyro_s2()], params=[{}])
+    with pytest.raises(fd.InvalidInputError, match="params"):
+        fd.solve_batch(gyro_s2(), params={"initial.r": 0.1})
+    with pytest.raises(fd.InvalidInputError, match="body"):
+        fd.solve_batch(gyro_s2(), params=[{"body.mass": -1.0}]).position
+
+
+def test_user_potential_in_a_batch():
+    V = lambda x, e: -0.3 * x[2]  # noqa: E731  (the cosine potential by hand)
+    scenes = [gyro_s2(potential={"kind": "none"}, r=r) for r in (0.3, 0.5)]
+    batch = fd.solve_batch(scenes, user_potential=V, threads=2)
+    for s, b in zip(scenes, batch):
+        np.testing.assert_array_equal(b.data, fd.solve(s, user_potential=V).data)
+
+
+def test_gil_is_released_during_a_long_batch():
+    """A Python thread keeps counting while the batch runs."""
+    scenes = [gyro_s2(h=1e-4, t_end=20.0, output={"samples": 2})] * 2
+    counts = []
+    stop = threading.Event()
+
+    def count():
+        n = 0
+        while not stop.is_set():
+            n += 1
+            if n % 1000 == 0:
+                counts.append((time.monotonic(), n))
+
+    th = threading.Thread(target=count)
+    th.start()
+    try:
+        t0 = time.monotonic()
+        fd.solve_batch(scenes, threads=1)
+        t1 = time.monotonic()
+    finally:
+        stop.set()
+        th.join()
+    during = [n for (t, n) in counts if t0 < t < t1]
+    assert t1 - t0 > 0.2, "the batch should take a while for this test to mean anything"
+    # Counting went on during the batch (not just before and after it).
+    assert len(during) >= 10 and during[-1] > during[0]

@@ -1,0 +1,54 @@
+"""framedyn.ensemble on a local Dask cluster on loopback: the same results
+as solve_batch (skipped when dask.distributed is not installed)."""
+
+import numpy as np
+import pytest
+
+distributed = pytest.importorskip("distributed")
+
+import framedyn as fd  # noqa: E402
+from framedyn.ensemble import solve_ensemble  # noqa: E402
+
+from conftest import gyro_s2  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def client():
+    cluster = distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None, protocol="tcp"
+    )
+    c = distributed.Client(cluster)
+    try:
+        yield c
+    finally:
+        c.close()
+        cluster.close()
+
+
+def test_ensemble_equals_batch(client):
+    assert all(addr.startswith("tcp://127.0.0.1") for addr in client.scheduler_info()["workers"])
+    base = gyro_s2(output={"samples": 21})
+    params = [{"initial.r": r, "potential.beta_hat": b} for r in (0.3, 0.6, 0.9) for b in (-0.3, 0.2)]
+    ens = solve_ensemble(base, params, client=client, chunk_size=2)
+    local = fd.solve_batch(base, params)
+    assert len(ens) == len(params)
+    assert np.array_equal(ens.data, local.data)
+    assert ens.position.shape == (6, 21, 3)
+
+
+def test_ensemble_with_user_potential_and_failures(client):
+    scenes = [gyro_s2(potential={"kind": "none"}), gyro_s2(method={"name": "dopri5", "rtol": 1e-12, "max_steps": 3})]
+    V = lambda x, e: -0.3 * x[2]  # noqa: E731  (pickled to the workers)
+    kept = solve_ensemble(scenes, client=client, user_potential=V, on_error="keep")
+    assert kept.errors[0] is None and isinstance(kept.errors[1], fd.IntegrationError)
+    assert np.array_equal(kept[0].data, fd.solve(scenes[0], user_potential=V).data)
+    with pytest.raises(fd.IntegrationError) as ei:
+        solve_ensemble(scenes, client=client, user_potential=V)
+    assert ei.value.index == 1
+
+
+def test_ensemble_argument_errors(client):
+    with pytest.raises(fd.InvalidInputError, match="chunk_size"):
+        solve_ensemble([gyro_s2()], client=client, chunk_size=0)
+    with pytest.raises(fd.InvalidInputError, match="on_error"):
+        solve_ensemble([gyro_s2()], client=client, on_error="x")

@@ -1,0 +1,219 @@
+"""framedyn.solve: arrays, geometry of the records, invariants, convergence
+order, failures with partial solutions, user potentials, Ctrl-C."""
+
+import math
+import os
+import signal
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import framedyn as fd
+
+from conftest import SCENES, gyro_s2
+
+
+def minkowski(a, b):
+    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] - a[..., 2] * b[..., 2]
+
+
+def test_arrays_and_shapes(any_scene):
+    name, scene = any_scene
+    sol = fd.solve(scene)
+    n = len(sol)
+    E = 4 if name.startswith("S3") else 3
+    assert n == sol.stats["records"] >= 2
+    assert sol.t.shape == (n,) and sol.t[0] == 0.0 and sol.t[-1] == pytest.approx(scene.to_dict()["time"]["t_end"])
+    assert sol.position.shape == (n, E) and sol.velocity.shape == (n, E)
+    if "point" in name:
+        assert sol.frame.shape[1] == 0
+    else:
+        assert sol.frame.shape == (n, 3 if E == 4 else 2, E)
+    assert sol.energy.shape == sol.defect.shape == (n,)
+    assert sol.data.shape == (n, len(sol.columns)) and sol.data.dtype == np.float64
+    # Views of the one array the core produced (no copies).
+    assert np.shares_memory(sol.position, sol.data) and np.shares_memory(sol.energy, sol.data)
+    assert sol.stats["stop"] == "finished" and sol.stats["steps"] > 0
+    assert sol.stats["max_defect"] < 1e-12
+    for k in sol.momentum_maps:
+        assert sol.unit(k) == "M L^2/T"
+
+
+def test_records_lie_on_the_manifold(any_scene):
+    name, scene = any_scene
+    sol = fd.solve(scene)
+    man = scene.to_dict()["manifold"]
+    x, f = sol.position, sol.frame
+    if man["kind"] in ("S2", "S3"):
+        R = man["radius"]
+        np.testing.assert_allclose(np.linalg.norm(x, axis=1), R, rtol=1e-12)
+        if f.shape[1]:
+            # Tangent frames; orthonormal for gyroscopes (e = q·ρ for affine bodies).
+            np.testing.assert_allclose(np.einsum("nae,ne->na", f, x), 0.0, atol=1e-12)
+            if "gyroscope" in name:
+                np.testing.assert_allclose(np.einsum("nae,nbe->nab", f, f), np.broadcast_to(np.eye(f.shape[1]), (len(sol), f.shape[1], f.shape[1])), atol=1e-12)
+    elif man["kind"] == "H2":
+        R = man["radius"]
+        np.testing.assert_allclose(-minkowski(x, x), R**2, rtol=1e-12)
+        assert (x[:, 2] > 0).all()
+    else:
+        L, R = man["L"] if "L" in man else man["major"], man["R"] if "R" in man else man["minor"]
+        rho = np.hypot(x[:, 0], x[:, 1])
+        np.testing.assert_allclose((rho - L) ** 2 + x[:, 2] ** 2, R**2, rtol=1e-12)
+        np.testing.assert_allclose(np.einsum("nae,nbe->nab", f, f), np.broadcast_to(np.eye(2), (len(sol), 2, 2)), atol=1e-12)
+
+
+def test_paper_coordinates_match_the_embedding():
+    """The documented embeddings of the paper's charts (docs/conventions.md)
+    applied to the coordinate columns give the position columns."""
+    for name in ("S2-gyroscope", "H2-point", "T2-gyroscope", "S3-gyroscope"):
+        scene = SCENES[name]()
+        sol = fd.solve(scene)
+        c, x = sol.coordinates, sol.position
+        man = scene.to_dict()["manifold"]
+        if man["kind"] == "S2":
+            R = man["radius"]
+            th = c["r"] / R
+            y = R * np.stack([np.sin(th) * np.cos(c["phi"]), np.sin(th) * np.sin(c["phi"]), np.cos(th)], 1)
+        elif man["kind"] == "H2":
+            R = man["radius"]
+            th = c["r"] / R
+            y = R * np.stack([np.sinh(th) * np.cos(c["phi"]), np.sinh(th) * np.sin(c["phi"]), np.cosh(th)], 1)
+        elif man["kind"] == "T2":
+            L, R = man["major"], man["minor"]
+            y = np.stack([(L + R * np.cos(c["theta"])) * np.cos(c["phi"]), (L + R * np.cos(c["theta"])) * np.sin(c["phi"]), R * np.sin(c["theta"])], 1)
+        else:
+            R = man["radius"]
+            rv = np.stack([c["r1"], c["r2"], c["r3"]], 1)
+            r = np.linalg.norm(rv, axis=1)
+            y = np.concatenate([R * np.cos(r / R)[:, None], R * np.sin(r / R)[:, None] * rv / r[:, None]], 1)
+        np.testing.assert_allclose(y, x, atol=1e-12, err_msg=name)
+
+
+def test_invariants_conserved():
+    # Rotationally symmetric potentials: p_phi is conserved; the spin of a
+    # gyroscope under a frame-independent potential too.
+    for name in ("S2-gyroscope", "H2-point", "T2-gyroscope"):
+        sol = fd.solve(SCENES[name]())
+        assert sol.drift("p_phi").max() < 1e-9, name
+        assert sol.drift("energy").max() < 1e-9, name
+    sol = fd.solve(SCENES["S2-gyroscope"]())
+    assert sol.drift("spin").max() < 1e-12
+
+
+def test_rk4_convergence_order():
+    """The error at t_end against a 1/16-step reference falls like h^4
+    (least-squares slope over four step sizes)."""
+    hs = np.array([0.04, 0.02, 0.01, 0.005])
+    ref = fd.solve(gyro_s2(h=hs[-1] / 16, output={"samples": 2})).position[-1]
+    errs = [np.linalg.norm(fd.solve(gyro_s2(h=h, output={"samples": 2})).position[-1] - ref) for h in hs]
+    slope = np.polyfit(np.log(hs), np.log(errs), 1)[0]
+    assert 3.7 < slope < 4.3, (slope, errs)
+
+
+def test_output_sampling():
+    sol = fd.solve(gyro_s2(output={"times": [0.5, 1.0, 1.5], "quantities": ["position", "energy"]}))
+    np.testing.assert_allclose(sol.t, [0.5, 1.0, 1.5], rtol=0, atol=1e-12)
+    assert sol.columns == ["t", "x0", "x1", "x2", "energy"]
+    with pytest.raises(KeyError, match="no column 'defect'"):
+        sol.defect
+
+
+def test_adaptive_method():
+    sol = fd.solve(gyro_s2(method={"name": "dopri5", "rtol": 1e-10, "atol": 1e-12}))
+    assert sol.stats["method"].lower().startswith("dopri") or "dp" in sol.stats["method"].lower()
+    ref = fd.solve(gyro_s2(h=0.001, output={"samples": 2})).position[-1]
+    assert np.linalg.norm(sol.position[-1] - ref) < 1e-8
+
+
+def test_integration_failure_carries_partial_solution():
+    s = gyro_s2(method={"name": "dopri5", "rtol": 1e-12, "atol": 1e-14, "max_steps": 5})
+    with pytest.raises(fd.IntegrationError, match="maximum number of steps") as ei:
+        fd.solve(s)
+    p = ei.value.partial
+    assert isinstance(p, fd.Solution)
+    assert 1 <= len(p) and p.t[-1] < 2.0
+    assert p.stats["stop"] == "failed"
+
+
+# -- user potentials ------------------------------------------------------------
+
+
+def test_user_potential_equals_the_builtin():
+    """V = β̂ cos(r/R) = β̂ x₂/R written by hand agrees with the built-in
+    cosine potential (the user gradient is by finite differences)."""
+    beta = -0.3
+    builtin = fd.solve(gyro_s2())
+    calls = []
+
+    def V(x, e):
+        calls.append((x.shape, e.shape))
+        return beta * x[2]
+
+    user = fd.solve(gyro_s2(potential={"kind": "none"}), user_potential=V)
+    assert calls[0] == ((3,), (2, 3))
+    np.testing.assert_allclose(user.position, builtin.position, atol=1e-8)
+    np.testing.assert_allclose(user.energy, builtin.energy, atol=1e-8)
+
+
+def test_frame_dependent_user_potential_conserves_energy():
+    def V(x, e):
+        return 0.2 * e[0, 2]  # couples the body frame to the ambient z axis
+
+    sol = fd.solve(gyro_s2(potential={"kind": "none"}, h=0.005), user_potential=V)
+    assert sol.drift("energy").max() < 1e-8
+    assert sol.drift("spin").max() > 1e-4  # the torque changes the spin
+
+
+def test_user_potential_exception_propagates():
+    class Boom(Exception):
+        pass
+
+    n = [0]
+
+    def V(x, e):
+        n[0] += 1
+        if n[0] > 50:
+            raise Boom("from the user potential")
+        return 0.0
+
+    with pytest.raises(Boom, match="from the user potential") as ei:
+        fd.solve(gyro_s2(potential={"kind": "none"}), user_potential=V)
+    assert isinstance(ei.value.partial, fd.Solution)
+
+
+def test_user_potential_nan_is_an_integration_error():
+    with pytest.raises(fd.IntegrationError, match="non-finite"):
+        fd.solve(gyro_s2(potential={"kind": "none"}), user_potential=lambda x, e: float("nan"))
+
+
+def test_user_potential_wrong_return_type():
+    with pytest.raises(TypeError):
+        fd.solve(gyro_s2(potential={"kind": "none"}), user_potential=lambda x, e: "zero")
+
+
+def test_user_potential_not_callable():
+    with pytest.raises(fd.InvalidInputError, match="user_potential"):
+        fd.solve(gyro_s2(), user_potential=3.0)
+
+
+def test_solve_rejects_non_scenes():
+    with pytest.raises(fd.InvalidInputError, match="scene"):
+        fd.solve(42)
+    assert len(fd.solve(gyro_s2().to_dict())) == len(fd.solve(gyro_s2()))
+
+
+@pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals go to the main thread")
+def test_ctrl_c_stops_a_long_run():
+    s = gyro_s2(h=1e-3, t_end=1e5, output={"every": 10_000_000})  # ~1e8 steps: minutes
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    t0 = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            fd.solve(s)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - t0 < 10.0

@@ -1,0 +1,82 @@
+"""framedyn.Stepper: the stepping API agrees with a run, resets, errors."""
+
+import math
+
+import numpy as np
+import pytest
+
+import framedyn as fd
+
+from conftest import SCENES, gyro_s2
+
+
+def test_stepper_reaches_the_run_final_state(any_scene):
+    name, scene = any_scene
+    d = scene.to_dict()
+    h, t_end = d["method"]["h"], d["time"]["t_end"]
+    n = round(t_end / h)
+    st = fd.Stepper(scene)
+    assert st.span == (0.0, t_end) and st.t == 0.0
+    st.advance(h, n)
+    assert st.t == pytest.approx(t_end, abs=1e-9)
+    sol = fd.solve(scene)
+    row = st.row()
+    assert row.shape == (len(sol.columns),) and st.columns == sol.columns
+    # Same method, same steps (the run may split the span into equal steps).
+    np.testing.assert_allclose(row[1:], sol.data[-1, 1:], rtol=0, atol=1e-9)
+    assert st.energy == pytest.approx(sol.energy[-1], abs=1e-9)
+    assert st.defect < 1e-12
+
+
+def test_step_and_reset():
+    st = fd.Stepper(gyro_s2())
+    s0 = st.state()
+    st.step(0.01)
+    st.step(0.01)
+    assert st.t == pytest.approx(0.02)
+    assert st.state() != s0
+    st.reset()
+    assert st.t == 0.0 and st.state() == s0
+    st.step(-0.01)  # backwards
+    assert st.t == pytest.approx(-0.01)
+    assert st.method == "RK4"
+    assert "Stepper" in repr(st)
+
+
+@pytest.mark.parametrize("h", [0.0, math.nan, math.inf])
+def test_bad_step_sizes(h):
+    st = fd.Stepper(gyro_s2())
+    with pytest.raises(fd.InvalidInputError, match="h"):
+        st.step(h)
+
+
+def test_bad_arguments():
+    st = fd.Stepper(gyro_s2())
+    with pytest.raises(fd.InvalidInputError, match="`h`"):
+        st.step("0.1")
+    with pytest.raises(fd.InvalidInputError, match="`n`"):
+        st.advance(0.1, -1)
+    with pytest.raises(fd.InvalidInputError, match="`n`"):
+        st.advance(0.1, 2.5)
+    with pytest.raises(fd.InvalidInputError, match="scene"):
+        fd.Stepper(None)
+    with pytest.raises(fd.InvalidInputError, match="body"):
+        fd.Stepper(gyro_s2().with_params({"body.mass": 0.0}))
+
+
+def test_stepper_with_user_potential():
+    V = lambda x, e: -0.3 * x[2]  # noqa: E731
+    a = fd.Stepper(gyro_s2(potential={"kind": "none"}), user_potential=V)
+    b = fd.Stepper(gyro_s2())
+    a.advance(0.01, 100)
+    b.advance(0.01, 100)
+    np.testing.assert_allclose(a.row(), b.row(), atol=1e-8)
+
+
+def test_stepper_user_potential_error_propagates():
+    def V(x, e):
+        raise ZeroDivisionError("in V")
+
+    with pytest.raises(ZeroDivisionError, match="in V"):
+        st = fd.Stepper(gyro_s2(potential={"kind": "none"}), user_potential=V)
+        st.step(0.01)
