@@ -23,5 +23,21 @@ fn _framedyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
     m.add_function(wrap_pyfunction!(run::run_batch, m)?)?;
     m.add_function(wrap_pyfunction!(errors::raise_for_test, m)?)?;
+    m.add_function(wrap_pyfunction!(cli_main, m)?)?;
     Ok(())
+}
+
+/// Runs the `framedyn` command line `argv` (program name first) with the GIL
+/// released and returns its exit code: the console script `framedyn`
+/// installed by the wheel (`python/framedyn/cli.py`). A Rust panic is
+/// reported on stderr with exit code 101 instead of crossing into Python.
+#[pyfunction]
+fn cli_main(py: Python<'_>, argv: Vec<String>) -> i32 {
+    match py.detach(|| errors::guard(|| framedyn_cli::main_with_args(argv))) {
+        Ok(code) => code,
+        Err(message) => {
+            eprintln!("framedyn: {message}");
+            101
+        }
+    }
 }

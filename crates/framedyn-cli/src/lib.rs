@@ -1,0 +1,254 @@
+//! `framedyn`: scenes in, trajectories out.
+//!
+//! ```text
+//! framedyn run [SCENE] [--output PATH] [--format csv|npz] [--quiet]
+//! framedyn scenes                # list the embedded example scenes
+//! framedyn scenes show NAME      # print one (a starting point for your own)
+//! framedyn validate SCENE        # check a scene without running it
+//! ```
+//!
+//! `SCENE` is a TOML or JSON file, or the name of an embedded scene; without
+//! it `run` uses the default scene (a gyroscope on S² crossing the pole).
+//!
+//! Exit codes: 0 success; 2 bad command line; 3 invalid scene; 4 integration
+//! failure (the output holds the part up to the last good state); 5 I/O
+//! error (no output file is left); 130 interrupted by Ctrl-C (the output
+//! holds the part computed so far).
+#![deny(missing_docs)]
+
+mod output;
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use framedyn::scenes::{self, Format, RunError, Scene, SceneError, SceneStop, EXAMPLES};
+
+/// Exit code: invalid scene.
+const EXIT_INVALID: u8 = 3;
+/// Exit code: integration failure, partial output kept.
+const EXIT_INTEGRATION: u8 = 4;
+/// Exit code: I/O error.
+const EXIT_IO: u8 = 5;
+/// Exit code: interrupted (Ctrl-C), partial output kept.
+const EXIT_INTERRUPTED: u8 = 130;
+
+#[derive(Parser, Debug)]
+#[command(name = "framedyn", version, about = "Structured particles on curved manifolds: scenes in, trajectories out")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run a scene (file or embedded name; default: the pole-crossing S² gyroscope) and write its trajectory.
+    Run {
+        /// Scene file (.toml or .json) or embedded scene name.
+        scene: Option<String>,
+        /// Output path (overrides `[output] path`).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Output format (overrides `[output] format` and the extension).
+        #[arg(short, long, value_enum)]
+        format: Option<FormatArg>,
+        /// No progress bar and no summary.
+        #[arg(short, long)]
+        quiet: bool,
+    },
+    /// List the embedded example scenes, or print one with `show NAME`.
+    Scenes {
+        #[command(subcommand)]
+        action: Option<ScenesAction>,
+    },
+    /// Check a scene without running it.
+    Validate {
+        /// Scene file or embedded scene name.
+        scene: String,
+    },
+}
+
+#[derive(Subcommand, Debug)]
+enum ScenesAction {
+    /// Print an embedded scene as TOML.
+    Show {
+        /// The scene's name (see `framedyn scenes`).
+        name: String,
+    },
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+enum FormatArg {
+    Csv,
+    Npz,
+}
+
+/// Reads a scene from a file, or an embedded one by name.
+fn load(scene: &str) -> Result<(Scene, String), (u8, String)> {
+    let path = std::path::Path::new(scene);
+    if path.exists() {
+        let bytes = std::fs::read(path).map_err(|e| (EXIT_IO, format!("cannot read {scene}: {e}")))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            (EXIT_INVALID, format!("{scene}: invalid scene: not UTF-8 text (invalid byte at offset {})", e.utf8_error().valid_up_to()))
+        })?;
+        let is_json = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
+        let parsed = if is_json { Scene::from_json_str(&text) } else { Scene::from_str_auto(&text) };
+        parsed.map(|s| (s, scene.to_string())).map_err(|e| (EXIT_INVALID, format!("{scene}: invalid scene: {e}")))
+    } else {
+        match scenes::example(scene) {
+            Ok(s) => Ok((s, format!("embedded scene {scene}"))),
+            Err(SceneError::UnknownScene { available, .. }) => Err((
+                EXIT_INVALID,
+                format!("no scene file `{scene}` and no embedded scene of that name; embedded scenes: {available}"),
+            )),
+            Err(e) => Err((EXIT_INVALID, format!("embedded scene {scene}: {e}"))),
+        }
+    }
+}
+
+/// Runs the command line `args` (the first item is the program name, as in
+/// `std::env::args_os`) and returns the process exit code (see the crate
+/// documentation). Used by the `framedyn` binary and by the Python module's
+/// console script; never panics on bad input.
+pub fn main_with_args<I, T>(args: I) -> i32
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
+        Ok(c) => c,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() { 2 } else { 0 };
+        }
+    };
+    match run(cli) {
+        Ok(()) => 0,
+        Err((code, msg)) => {
+            if !msg.is_empty() {
+                eprintln!("framedyn: {msg}");
+            }
+            i32::from(code)
+        }
+    }
+}
+
+/// Set by Ctrl-C; one handler per process (installed on the first run),
+/// reset at the start of every run.
+static CANCEL: AtomicBool = AtomicBool::new(false);
+
+fn run(cli: Cli) -> Result<(), (u8, String)> {
+    match cli.command {
+        Command::Scenes { action: None } => {
+            let width = EXAMPLES.iter().map(|(n, _)| n.len()).max().unwrap_or(0);
+            for (name, _) in EXAMPLES {
+                let desc = scenes::example(name).ok().and_then(|s| s.description).unwrap_or_default();
+                let marker = if *name == scenes::DEFAULT_SCENE { " (default)" } else { "" };
+                println!("{name:width$}  {desc}{marker}");
+            }
+            Ok(())
+        }
+        Command::Scenes { action: Some(ScenesAction::Show { name }) } => match EXAMPLES.iter().find(|(n, _)| *n == name) {
+            Some((_, text)) => {
+                print!("{text}");
+                Ok(())
+            }
+            None => Err((
+                EXIT_INVALID,
+                format!("no embedded scene `{name}`; available: {}", EXAMPLES.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")),
+            )),
+        },
+        Command::Validate { scene } => {
+            let (s, origin) = load(&scene)?;
+            s.validate().map_err(|e| (EXIT_INVALID, format!("{origin}: invalid scene: {e}")))?;
+            println!("{origin}: valid");
+            Ok(())
+        }
+        Command::Run { scene, output, format, quiet } => {
+            let name = scene.unwrap_or_else(|| scenes::DEFAULT_SCENE.to_string());
+            let (s, origin) = load(&name)?;
+            run_scene(s, &origin, output, format, quiet)
+        }
+    }
+}
+
+fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option<FormatArg>, quiet: bool) -> Result<(), (u8, String)> {
+    let mut sim = scene.build().map_err(|e| (EXIT_INVALID, format!("{origin}: invalid scene: {e}")))?;
+    let path = output.unwrap_or_else(|| PathBuf::from(scene.output_path()));
+    let format = match format {
+        Some(FormatArg::Csv) => Format::Csv,
+        Some(FormatArg::Npz) => Format::Npz,
+        None if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("npz")) => Format::Npz,
+        None if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv")) => Format::Csv,
+        None => scene.output_format(),
+    };
+    let mut sink = output::FileSink::create(&path, format).map_err(|e| (EXIT_IO, format!("cannot create output {}: {e}", path.display())))?;
+
+    static HANDLER: std::sync::Once = std::sync::Once::new();
+    HANDLER.call_once(|| {
+        // A second Ctrl-C ends the process at once (the temporary file is
+        // left behind; the output path is never half-written).
+        let _ = ctrlc::set_handler(move || {
+            if CANCEL.swap(true, Ordering::SeqCst) {
+                std::process::exit(i32::from(EXIT_INTERRUPTED));
+            }
+        });
+    });
+    CANCEL.store(false, Ordering::SeqCst);
+    let cancel = &CANCEL;
+    let show_bar = !quiet && std::io::stderr().is_terminal();
+    let started = Instant::now();
+    let mut bar: Option<indicatif::ProgressBar> = None;
+    let mut progress = |p: &scenes::Progress| {
+        if !show_bar {
+            return;
+        }
+        if bar.is_none() && started.elapsed().as_secs_f64() > 1.0 {
+            let b = indicatif::ProgressBar::with_draw_target(Some(1000), indicatif::ProgressDrawTarget::stderr())
+                .with_elapsed(started.elapsed());
+            b.set_style(
+                indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% t = {msg} (eta {eta})")
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            );
+            bar = Some(b);
+        }
+        if let Some(b) = &bar {
+            b.set_position((p.fraction * 1000.0) as u64);
+            b.set_message(format!("{:.4}", p.t));
+        }
+    };
+    let result = sim.run(&mut sink, cancel, &mut progress);
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let (summary, err) = match result {
+        Ok(s) => (s, None),
+        Err(f) => (f.summary, Some(f.error)),
+    };
+    if let Some(RunError::Io(e)) = &err {
+        sink.abort();
+        return Err((EXIT_IO, format!("writing {}: {e} (no output written)", path.display())));
+    }
+    if let Err(e) = sink.finish() {
+        return Err((EXIT_IO, format!("writing {}: {e} (no output written)", path.display())));
+    }
+    if !quiet {
+        println!("scene:           {origin}");
+        println!("{summary}");
+        println!("output:          {} ({} records, {})", path.display(), summary.records, if format == Format::Npz { "npz" } else { "csv" });
+    }
+    match (&summary.stop, err) {
+        (_, Some(RunError::Integration(e))) => Err((
+            EXIT_INTEGRATION,
+            format!("integration failed: {e}; {} holds the {} records up to the last good state", path.display(), summary.records),
+        )),
+        (_, Some(e)) => Err((EXIT_IO, e.to_string())),
+        (SceneStop::Cancelled, None) => Err((
+            EXIT_INTERRUPTED,
+            format!("interrupted at t = {}; {} holds the {} records computed so far", summary.t_reached, path.display(), summary.records),
+        )),
+        _ => Ok(()),
+    }
+}
