@@ -242,7 +242,7 @@ proptest! {
 
 /// One classical RK4 step of the Euler–Lagrange equations (as in coords.rs);
 /// `None` if a stage leaves the chart.
-fn rk4_step<L: Lagrangian<Q>, const Q: usize>(
+pub(crate) fn rk4_step<L: Lagrangian<Q>, const Q: usize>(
     sys: &L,
     q: &SVector<f64, Q>,
     v: &SVector<f64, Q>,
@@ -262,7 +262,7 @@ fn rk4_step<L: Lagrangian<Q>, const Q: usize>(
 /// Chart conditioning along a coordinate path: the smallest value of
 /// `clear(q)` (e.g. `sin(r/R)` on S², `r/R` at the origin of H²), or `None`
 /// if RK4 left the chart.
-type Traj = Option<(f64, f64)>;
+pub(crate) type Traj = Option<(f64, f64)>;
 
 /// Worst difference (max over steps) of ambient position and body frame
 /// between RK4 on `(q, q̇)` and RKMK4 on the bundle state, `n` steps to
@@ -313,19 +313,31 @@ const MIN_CLEARANCE: f64 = 0.25;
 /// not shrink, fails; reaching the tolerance, or three doublings that each
 /// shrink it ≥ 10× (the difference is truncation error tending to zero at
 /// fourth order — fast orbits measured 1.3e-5, 8.5e-7, 5.3e-8, 3.3e-9),
-/// passes. A path that leaves the
-/// chart or comes closer than [`MIN_CLEARANCE`] to a chart singularity is
-/// rejected (proptest draws another case).
+/// passes. A path that leaves the chart or comes closer than
+/// [`MIN_CLEARANCE`] to a chart singularity is rejected (proptest draws
+/// another case).
 fn refine(what: &str, diff: impl Fn(usize) -> Traj) -> Result<(), TestCaseError> {
-    let Some((mut d, clearance)) = diff(STEPS) else {
+    refine_with(what, STEPS, 3, MIN_CLEARANCE, diff)
+}
+
+/// [`refine`] with its parameters: `steps` at first, at most `doublings`
+/// doublings, paths below `min_clearance` rejected.
+pub(crate) fn refine_with(
+    what: &str,
+    steps: usize,
+    doublings: u32,
+    min_clearance: f64,
+    diff: impl Fn(usize) -> Traj,
+) -> Result<(), TestCaseError> {
+    let Some((mut d, clearance)) = diff(steps) else {
         return Err(TestCaseError::reject(format!("{what}: the coordinate path left the chart")));
     };
-    if clearance < MIN_CLEARANCE {
+    if clearance < min_clearance {
         return Err(TestCaseError::reject(format!("{what}: chart clearance {clearance:.3}")));
     }
-    let mut n = STEPS;
+    let mut n = steps;
     let mut seen = vec![format!("{d:e} at {n} steps")];
-    while d > TRAJ_TOL && n < 8 * STEPS {
+    while d > TRAJ_TOL && n < (steps << doublings) {
         n *= 2;
         let Some((d2, _)) = diff(n) else {
             return Err(TestCaseError::reject(format!("{what}: the coordinate path left the chart at {n} steps")));

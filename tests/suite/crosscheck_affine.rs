@@ -64,6 +64,7 @@ use num_dual::Dual64;
 use proptest::prelude::*;
 
 use crate::bundle_laws::rkmk4_step;
+use crate::crosscheck::{rk4_step, Traj};
 
 fn config(cases: u32) -> ProptestConfig {
     ProptestConfig { cases, failure_persistence: None, ..ProptestConfig::default() }
@@ -420,23 +421,6 @@ proptest! {
 // Trajectories over t = 1
 // ---------------------------------------------------------------------------
 
-/// One classical RK4 step of the Euler–Lagrange equations; `None` if a stage
-/// leaves the chart.
-fn rk4_step<L: Lagrangian<Q>, const Q: usize>(sys: &L, q: &SVector<f64, Q>, v: &SVector<f64, Q>, h: f64) -> Option<(SVector<f64, Q>, SVector<f64, Q>)> {
-    let acc = |q: &SVector<f64, Q>, v: &SVector<f64, Q>| accelerations(sys, q, v).ok();
-    let a1 = acc(q, v)?;
-    let (q2, v2) = (q + v * (h / 2.0), v + a1 * (h / 2.0));
-    let a2 = acc(&q2, &v2)?;
-    let (q3, v3) = (q + v2 * (h / 2.0), v + a2 * (h / 2.0));
-    let a3 = acc(&q3, &v3)?;
-    let (q4, v4) = (q + v3 * h, v + a3 * h);
-    let a4 = acc(&q4, &v4)?;
-    Some((q + (v + v2 * 2.0 + v3 * 2.0 + v4) * (h / 6.0), v + (a1 + a2 * 2.0 + a3 * 2.0 + a4) * (h / 6.0)))
-}
-
-/// `(worst difference, smallest clearance)` or `None` if the path left the chart.
-type Traj = Option<(f64, f64)>;
-
 /// Worst difference (max over the steps) of ambient position and body frame
 /// between RK4 on `(q, q̇)` and RKMK4 on the bundle state, `n` steps to t = 1.
 fn trajectory_diff<Ch, F, B, V, C, const K: usize, const Q: usize>(
@@ -471,7 +455,6 @@ where
 }
 
 const STEPS: usize = 200;
-const TRAJ_TOL: f64 = 1e-10;
 /// Paths closer than this to a chart singularity (`sin(r/R)` on S², `r/R`
 /// on H²) or to a fibre singularity (`(λ − μ)/(λ + μ)` of the two-polar
 /// variables, `min(λ, μ)` collapse) are not compared: there the coordinate
@@ -479,28 +462,11 @@ const TRAJ_TOL: f64 = 1e-10;
 const MIN_CLEARANCE: f64 = 0.2;
 
 /// As `crosscheck::refine`: the difference at [`STEPS`], doubled (at most
-/// four times) while above [`TRAJ_TOL`]; each doubling must shrink it ≥ 10×
+/// four times) while above 1e-10; each doubling must shrink it ≥ 10×
 /// (both integrators are fourth order, 16× per doubling), so a real
 /// discrepancy, which does not shrink, fails.
 fn refine(what: &str, diff: impl Fn(usize) -> Traj) -> std::result::Result<(), TestCaseError> {
-    let Some((mut d, clearance)) = diff(STEPS) else {
-        return Err(TestCaseError::reject(format!("{what}: the coordinate path left the chart")));
-    };
-    if clearance < MIN_CLEARANCE {
-        return Err(TestCaseError::reject(format!("{what}: clearance {clearance:.3}")));
-    }
-    let mut n = STEPS;
-    let mut seen = vec![format!("{d:e} at {n} steps")];
-    while d > TRAJ_TOL && n < 16 * STEPS {
-        n *= 2;
-        let Some((d2, _)) = diff(n) else {
-            return Err(TestCaseError::reject(format!("{what}: the coordinate path left the chart at {n} steps")));
-        };
-        seen.push(format!("{d2:e} at {n}"));
-        prop_assert!(d / d2 >= 10.0, "{what}: no fourth-order convergence: {}", seen.join(", "));
-        d = d2;
-    }
-    Ok(())
+    crate::crosscheck::refine_with(what, STEPS, 4, MIN_CLEARANCE, diff)
 }
 
 /// Clearance of the position part of `q`: from the chart singularities and,
@@ -531,6 +497,20 @@ proptest! {
         v in proptest::collection::vec(-0.4..0.4f64, 6),
     ) {
         let jm = inertia(&[j[0], j[1], joff]);
+        // A path that nears a chart or fibre singularity is skipped for that
+        // body and manifold only (rejecting the whole case would discard the
+        // other comparisons: H² Kepler paths often near the origin).
+        let mut compared = 0usize;
+        let mut soft = |r: std::result::Result<(), TestCaseError>| -> std::result::Result<(), TestCaseError> {
+            match r {
+                Err(TestCaseError::Reject(_)) => Ok(()),
+                Err(e) => Err(e),
+                Ok(()) => {
+                    compared += 1;
+                    Ok(())
+                }
+            }
+        };
         for_each_case!(radius, k, b, |label, bundle, chart, pot, which| {
             let x = chart_point(which, radius, s, phi);
             let model = framedyn::dynamics::affine::AffineModel::new(bundle, Affine::new(m, jm).unwrap(), pot).unwrap();
@@ -542,22 +522,23 @@ proptest! {
                 chart_clearance(which, radius, q[0], q[1]).min(st.min())
             };
             let qd = SVector::<f64, 6>::from_column_slice(&v);
-            refine(&format!("{label} affine"), |n| trajectory_diff(&sys, &model, q, qd, n, &clear))?;
+            soft(refine(&format!("{label} affine"), |n| trajectory_diff(&sys, &model, q, qd, n, &clear)))?;
 
             let model = IncompressibleModel::new(bundle, Incompressible::new(m, jm).unwrap(), pot).unwrap();
             let sys = lagrangian(chart.clone(), SlPolar, &model);
             let q = q_of::<3, 5>(&x, &[alpha, beta, lambda]);
             let clear = |q: &SVector<f64, 5>| chart_clearance(which, radius, q[0], q[1]).min((q[4] - q[4].recip()).abs() / (q[4] + q[4].recip()));
             let qd = SVector::<f64, 5>::from_column_slice(&v[..5]);
-            refine(&format!("{label} incompressible"), |n| trajectory_diff(&sys, &model, q, qd, n, &clear))?;
+            soft(refine(&format!("{label} incompressible"), |n| trajectory_diff(&sys, &model, q, qd, n, &clear)))?;
 
             let model = WeylModel::new(bundle, Weyl::new(m, jm).unwrap(), pot).unwrap();
             let sys = lagrangian(chart.clone(), WeylPolar, &model);
             let q = q_of::<2, 4>(&x, &[alpha, lambda]);
             let clear = |q: &SVector<f64, 4>| chart_clearance(which, radius, q[0], q[1]).min(q[3]);
             let qd = SVector::<f64, 4>::from_column_slice(&v[..4]);
-            refine(&format!("{label} Weyl"), |n| trajectory_diff(&sys, &model, q, qd, n, &clear))?;
-
+            soft(refine(&format!("{label} Weyl"), |n| trajectory_diff(&sys, &model, q, qd, n, &clear)))?;
         });
+        // Most comparisons of a case run (the start is kept off the singular sets).
+        prop_assert!(compared >= 6, "only {compared} comparisons ran");
     }
 }
