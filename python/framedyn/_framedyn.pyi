@@ -9,7 +9,7 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union, 
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["Scene", "Stepper", "__version__", "_raise_for_test", "run", "run_batch"]
+__all__ = ["Scene", "Stepper", "__version__", "_raise_for_test", "cli_main", "run", "run_batch"]
 __version__: str
 
 _UserPotential = Callable[[npt.NDArray[np.float64], npt.NDArray[np.float64]], float]
