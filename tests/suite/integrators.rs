@@ -57,7 +57,7 @@ where
 
 /// Least-squares slope of log(err) against log(h), h ∝ 1/n, over the points
 /// with err above `floor` (the round-off floor); returns (slope, points used).
-fn fit_slope(ns: &[usize], errs: &[f64], floor: f64) -> (f64, usize) {
+pub(crate) fn fit_slope(ns: &[usize], errs: &[f64], floor: f64) -> (f64, usize) {
     let pts: Vec<(f64, f64)> = ns
         .iter()
         .zip(errs)

@@ -39,20 +39,7 @@ where
     Some(*st.state())
 }
 
-/// Least-squares slope of log(err) against log(h) over the points above `floor`.
-pub fn fit_slope(ns: &[usize], errs: &[f64], floor: f64) -> (f64, usize) {
-    let pts: Vec<(f64, f64)> = ns
-        .iter()
-        .zip(errs)
-        .filter(|(_, &e)| e > floor)
-        .map(|(&n, &e)| ((1.0 / n as f64).ln(), e.ln()))
-        .collect();
-    let k = pts.len() as f64;
-    let (sx, sy) = pts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
-    let (mx, my) = (sx / k, sy / k);
-    let (sxy, sxx) = pts.iter().fold((0.0, 0.0), |a, p| (a.0 + (p.0 - mx) * (p.1 - my), a.1 + (p.0 - mx).powi(2)));
-    (sxy / sxx, pts.len())
-}
+pub(crate) use crate::integrators::fit_slope;
 
 /// Reference at `t_end`: RKMK6 (Butcher) with 4000 steps, and its distance
 /// to RKMK5 with 4000 steps (its own error estimate).
