@@ -7,7 +7,7 @@
 
 use nalgebra::{DMatrix, Matrix3, SVector, Vector3};
 
-use super::special::{cosc, dexpinv, sinc, sinc3};
+use super::special::{cosc, dexpinv, sinc3, sinc_cosc};
 use super::LieGroup;
 use crate::{Error, Result};
 
@@ -323,7 +323,8 @@ impl LieGroup for So12 {
     fn exp(a: &Self::Algebra) -> Self {
         let s = So12::casimir(a);
         let x = So12::hat(a);
-        So12(Matrix3::identity() + x * sinc(s) + (x * x) * cosc(s))
+        let (sa, ca) = sinc_cosc(s);
+        So12(Matrix3::identity() + x * sa + (x * x) * ca)
     }
 
     /// The principal logarithm: the generator `X` with `exp X = Λ` whose

@@ -160,10 +160,13 @@ impl LieGroup for So2 {
     fn constraint_defect(&self) -> f64 {
         (self.cs.norm_squared() - 1.0).abs()
     }
-    /// Divides by `hypot(cos, sin)` (the nearest unit pair). A zero pair is
+    /// Divides by `|(cos, sin)|` (the nearest unit pair). A zero pair is
     /// returned unchanged.
     fn renormalize(&self) -> Self {
-        let n = self.cs[0].hypot(self.cs[1]);
+        // √(c² + s²) (near 1 here: no overflow; `hypot` costs ~5× more),
+        // `hypot` only if the sum of squares over- or underflows.
+        let q = self.cs[0] * self.cs[0] + self.cs[1] * self.cs[1];
+        let n = if q > 1e-300 && q < 1e300 { q.sqrt() } else { self.cs[0].hypot(self.cs[1]) };
         if n > 0.0 && n.is_finite() {
             So2 { cs: self.cs / n }
         } else {

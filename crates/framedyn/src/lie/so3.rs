@@ -2,7 +2,7 @@
 
 use nalgebra::{DMatrix, Matrix3, Vector3, Vector4};
 
-use super::special::{cosc, dexp_cross, dexp_inv_cross, sinc};
+use super::special::{dexp_cross, dexp_inv_cross, sinc_cosc};
 use super::LieGroup;
 use crate::{Error, Result};
 
@@ -188,7 +188,7 @@ impl LieGroup for So3 {
     #[inline]
     fn exp(a: &Self::Algebra) -> Self {
         let s = a.norm_squared();
-        let (sa, ca) = (sinc(s), cosc(s));
+        let (sa, ca) = sinc_cosc(s);
         let k = Self::hat(a);
         let k2 = a * a.transpose() - Matrix3::identity() * s;
         So3 { m: Matrix3::identity() + k * sa + k2 * ca }

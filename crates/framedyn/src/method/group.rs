@@ -21,6 +21,17 @@ pub trait GroupNumerics: LieGroup {
     /// guard. Abelian groups return 0.
     fn ad_radius(a: &Self::Algebra) -> f64;
 
+    /// `ad_radius(a) ≤ limit`, decided cheaply where possible (the radius
+    /// guard runs once per stage): groups whose bound is a norm compare
+    /// squares instead of taking the square root. Agrees with
+    /// `ad_radius(a) <= limit` up to rounding at the boundary (the guard
+    /// evaluates [`GroupNumerics::ad_radius`] itself only when this fails,
+    /// to report the bound). The default evaluates `ad_radius`.
+    #[inline]
+    fn within_radius(a: &Self::Algebra, limit: f64) -> bool {
+        Self::ad_radius(a) <= limit
+    }
+
     /// Reference magnitude of each stored algebra component at the state
     /// `self`, against which relative tolerances are measured.
     ///
@@ -79,6 +90,10 @@ impl GroupNumerics for So3 {
         a.norm()
     }
     #[inline]
+    fn within_radius(a: &Self::Algebra, limit: f64) -> bool {
+        a.norm_squared() <= limit * limit
+    }
+    #[inline]
     fn tolerance_scale(&self) -> Self::Algebra {
         ones()
     }
@@ -93,6 +108,10 @@ impl GroupNumerics for Su2 {
     #[inline]
     fn ad_radius(a: &Self::Algebra) -> f64 {
         a.norm()
+    }
+    #[inline]
+    fn within_radius(a: &Self::Algebra, limit: f64) -> bool {
+        a.norm_squared() <= limit * limit
     }
     #[inline]
     fn tolerance_scale(&self) -> Self::Algebra {
@@ -110,6 +129,10 @@ impl GroupNumerics for So12 {
     #[inline]
     fn ad_radius(a: &Self::Algebra) -> f64 {
         (a[2] * a[2] - a[0] * a[0] - a[1] * a[1]).abs().sqrt()
+    }
+    #[inline]
+    fn within_radius(a: &Self::Algebra, limit: f64) -> bool {
+        (a[2] * a[2] - a[0] * a[0] - a[1] * a[1]).abs() <= limit * limit
     }
     #[inline]
     fn tolerance_scale(&self) -> Self::Algebra {
@@ -278,6 +301,10 @@ impl<A: GroupNumerics, B: GroupNumerics> GroupNumerics for Product<A, B> {
     #[inline]
     fn ad_radius(a: &Self::Algebra) -> f64 {
         A::ad_radius(&a.0).max(B::ad_radius(&a.1))
+    }
+    #[inline]
+    fn within_radius(a: &Self::Algebra, limit: f64) -> bool {
+        A::within_radius(&a.0, limit) && B::within_radius(&a.1, limit)
     }
     #[inline]
     fn tolerance_scale(&self) -> Self::Algebra {
