@@ -58,7 +58,7 @@ type S3Gyro = Gyroscope3Model<Sphere3, Axial>;
 
 /// A gyroscope on S² (R = 1, m = 1, I = 0.3) in general position, with a tilt
 /// and a frame coupling.
-fn s2_gyro() -> (S2Gyro, <S2Gyro as System>::State) {
+pub(super) fn s2_gyro() -> (S2Gyro, <S2Gyro as System>::State) {
     let s2 = Sphere2::new(1.0).unwrap();
     let m = Gyroscope2Model::new(s2, Gyroscope::<2>::isotropic(1.0, 0.3).unwrap(), Axial { a: 0.8, b: 0.4, radius: 1.0, axis: 2 })
         .unwrap();
@@ -69,7 +69,7 @@ fn s2_gyro() -> (S2Gyro, <S2Gyro as System>::State) {
 }
 
 /// A gyroscope on H² (R = 1) confined by `a·cosh r`, with a frame coupling.
-fn h2_gyro() -> (H2Gyro, <H2Gyro as System>::State) {
+pub(super) fn h2_gyro() -> (H2Gyro, <H2Gyro as System>::State) {
     let h2 = Hyperbolic2::new(1.0).unwrap();
     let m = Gyroscope2Model::new(h2, Gyroscope::<2>::isotropic(1.0, 0.3).unwrap(), Axial { a: 0.8, b: 0.3, radius: 1.0, axis: 2 })
         .unwrap();
@@ -81,7 +81,7 @@ fn h2_gyro() -> (H2Gyro, <H2Gyro as System>::State) {
 
 /// A gyroscope on the torus T²(L = 2, R = 0.7) with a tilt along z and a
 /// frame coupling.
-fn t2_gyro() -> (T2Gyro, <T2Gyro as System>::State) {
+pub(super) fn t2_gyro() -> (T2Gyro, <T2Gyro as System>::State) {
     let t2 = Torus2::new(2.0, 0.7).unwrap();
     let m = Gyroscope2Model::new(t2, Gyroscope::<2>::isotropic(1.0, 0.3).unwrap(), Axial { a: 0.8, b: 0.3, radius: 0.7, axis: 2 })
         .unwrap();
@@ -93,7 +93,7 @@ fn t2_gyro() -> (T2Gyro, <T2Gyro as System>::State) {
 
 /// A gyroscope on S³ (R = 1) with anisotropic inertia J = diag(0.2, 0.35, 0.5),
 /// a tilt and a frame coupling.
-fn s3_gyro() -> (S3Gyro, <S3Gyro as System>::State) {
+pub(super) fn s3_gyro() -> (S3Gyro, <S3Gyro as System>::State) {
     let s3 = Sphere3::new(1.0).unwrap();
     let body = Gyroscope::<3>::new(1.0, Matrix3::from_diagonal(&Vector3::new(0.2, 0.35, 0.5))).unwrap();
     let m = Gyroscope3Model::new(s3, body, Axial { a: 0.8, b: 0.3, radius: 1.0, axis: 1 }).unwrap();
@@ -302,7 +302,7 @@ fn pot2() -> Pot2 {
 
 /// An affinely-rigid body (ρ ∈ GL⁺(2), hypermomentum in gl(2)) on S² in the
 /// elastic potential (a131) plus a tilt and a frame coupling.
-fn s2_affine() -> (AffineModel<Sphere2, Pot2, 2, 3>, <AffineModel<Sphere2, Pot2, 2, 3> as System>::State) {
+pub(super) fn s2_affine() -> (AffineModel<Sphere2, Pot2, 2, 3>, <AffineModel<Sphere2, Pot2, 2, 3> as System>::State) {
     let s2 = Sphere2::new(1.0).unwrap();
     let m = AffineModel::new(s2, Affine::new(1.0, Matrix2::new(0.3, 0.07, 0.07, 0.15)).unwrap(), pot2()).unwrap();
     let g = bundle_element_at(&s2, &s2.embed(&Vector2::new(0.8, 0.2))).unwrap();
@@ -317,7 +317,7 @@ fn s2_affine() -> (AffineModel<Sphere2, Pot2, 2, 3>, <AffineModel<Sphere2, Pot2,
 /// z-components of tangent vectors grow like sinh r, and with the coupling
 /// `b·e₁ᶻ` (b = 0.3) the body runs away near t = 5.4 (|ξ| ≈ 3300, stopped by
 /// the dexp⁻¹ radius guard at h = 2.5e-3).
-fn h2_incompressible() -> (IncompressibleModel<Hyperbolic2, Pot2, 2, 3>, <IncompressibleModel<Hyperbolic2, Pot2, 2, 3> as System>::State) {
+pub(super) fn h2_incompressible() -> (IncompressibleModel<Hyperbolic2, Pot2, 2, 3>, <IncompressibleModel<Hyperbolic2, Pot2, 2, 3> as System>::State) {
     let h2 = Hyperbolic2::new(1.0).unwrap();
     let pot = Sum::new(Elastic::new(0.8).unwrap(), Axial { a: 0.4, b: 0.0, radius: 1.0, axis: 2 });
     let m = IncompressibleModel::new(h2, Incompressible::new(1.0, Matrix2::new(0.3, 0.07, 0.07, 0.15)).unwrap(), pot).unwrap();
@@ -331,7 +331,7 @@ fn h2_incompressible() -> (IncompressibleModel<Hyperbolic2, Pot2, 2, 3>, <Incomp
 
 /// A Weyl body (ρ ∈ CO⁺(3): rotation and dilatation) on S³ with a tilt and
 /// a frame coupling.
-fn s3_weyl() -> (WeylModel<Sphere3, Axial, 3, 4>, <WeylModel<Sphere3, Axial, 3, 4> as System>::State) {
+pub(super) fn s3_weyl() -> (WeylModel<Sphere3, Axial, 3, 4>, <WeylModel<Sphere3, Axial, 3, 4> as System>::State) {
     let s3 = Sphere3::new(1.0).unwrap();
     let j3 = Matrix3::new(0.3, 0.05, 0.0, 0.05, 0.2, 0.04, 0.0, 0.04, 0.25);
     let m = WeylModel::new(s3, Weyl::new(1.2, j3).unwrap(), Axial { a: 0.6, b: 0.3, radius: 1.0, axis: 1 }).unwrap();

@@ -11,7 +11,8 @@
 //! - [`Rkmk`]: the Runge–Kutta–Munthe-Kaas engine, one generic implementation
 //!   driven by the Butcher [`tableau`]s (Lie–Euler, Heun, Kutta 3, RK4 in its
 //!   two-commutator form, DOPRI5 with its embedded pair and dense output,
-//!   Butcher's order 6);
+//!   Butcher's order 6, DOP853 with its combined estimate and order-7 dense
+//!   output);
 //! - [`GroupNumerics`]: the `ad` spectral-radius bound and tolerance scale
 //!   each state group provides;
 //! - [`trees`]: rooted trees and order conditions for checking tableaux.
@@ -30,7 +31,8 @@
 //! | [`Rkmk::heun`] | 2 | 2 RHS, 2 exp | cheap low accuracy |
 //! | [`Rkmk::kutta3`] | 3 | 3 RHS, 3 exp, 2 brackets | — |
 //! | [`Rkmk::rk4`] | 4 | 4 RHS, 4 exp, 2 brackets | fixed-step accuracy on any system |
-//! | [`Rkmk::dopri5`] | 5 (4) | 6 RHS (FSAL), 6–7 exp, `ad²` series | **default**: adaptive, dense output, events; any system, short to medium times |
+//! | [`Rkmk::dopri5`] | 5 (4) | 6 RHS (FSAL), 6–7 exp, `ad²` series | adaptive, dense output, events; any system, short to medium times (tolerance per step: the final error can exceed it by the flow's amplification) |
+//! | [`Rkmk::dop853`] | 8 (5, 3) | 12 RHS (FSAL; 3 more for dense output), `ad⁶` series | adaptive when the tolerance should bound the final error (≤ 8.1 × tol on every reference trajectory), dense output of order 7, events |
 //! | [`Rkmk::butcher6`] | 6 | 7 RHS, 7 exp, `ad⁴` series | high-accuracy references |
 //! | [`Splitting::strang`] | 2 | 1 kick (1 force), 2 drifts | long runs at loose accuracy: energy bounded, momentum maps exact |
 //! | [`Splitting::yoshida4`] / [`Splitting::suzuki4`] | 4 | 3 / 5 kicks, 4 / 6 drifts | long runs (Suzuki: 10–130× smaller error than Yoshida at equal h) |
@@ -83,7 +85,9 @@ pub struct MethodInfo {
     pub name: &'static str,
     /// Order `p` of the propagated solution.
     pub order: u32,
-    /// Order `p̂` of the embedded solution (adaptive stepping), if any.
+    /// Order `p̂` of the error estimate (adaptive stepping), if any: the
+    /// estimate is `O(h^{p̂+1})` — the embedded solution's order for a
+    /// classical pair, 7 for DOP853's combined 5th/3rd-order estimate.
     pub embedded_order: Option<u32>,
     /// Order `q` of the dense output: its local error is `O(h^{q+1})`.
     pub dense_order: u32,

@@ -29,7 +29,7 @@
 //! Numerica 9 (2000) 215–365.
 
 use super::group::GroupNumerics;
-use super::tableau::{self, BracketForm, Tableau, DENSE_DEGREE};
+use super::tableau::{self, BracketForm, DenseStages, Tableau, DENSE_DEGREE, EXTENDED_STAGES};
 use super::{Alg, DensePoly, Method, MethodInfo, NonFiniteSource, StepCost, StepFault, StepOutput, StepRequest};
 use crate::dynamics::System;
 use crate::lie::{dexp_inv_series, AlgebraVector, LieGroup};
@@ -124,6 +124,16 @@ impl Rkmk<7> {
     }
 }
 
+impl Rkmk<12> {
+    /// RKMK8 on DOP853 ([`tableau::DOP853`]): order 8, `dexp⁻¹` to `ad⁶`,
+    /// the combined 5th/3rd-order error estimate of the code DOP853 for
+    /// adaptive stepping, and its continuous extension of order 7 (3 extra
+    /// evaluations of `f` per step, only when dense output is requested).
+    pub const fn dop853() -> Self {
+        Self::new(&tableau::DOP853)
+    }
+}
+
 impl<const S: usize> Rkmk<S> {
     /// The RKMK method of `tableau`, with [`DexpInv::Auto`] and the radius
     /// guard [`DEFAULT_RADIUS_LIMIT`].
@@ -179,9 +189,10 @@ impl<const S: usize> Rkmk<S> {
     /// Order of the dense output: the tableau's continuous extension, else
     /// the cubic Hermite interpolant in `θ` (local error `O(h^{min(p,3)+1})`).
     fn dense_order(&self) -> u32 {
-        match &self.tableau.dense {
-            Some(d) => d.order,
-            None => self.tableau.order.min(3),
+        match (&self.tableau.dense, self.tableau.dense_stages) {
+            (Some(d), _) => d.order,
+            (None, Some(ds)) => ds.dense.order,
+            (None, None) => self.tableau.order.min(3),
         }
     }
 }
@@ -204,6 +215,16 @@ fn correct<G: LieGroup>(c: Correction, theta: &G::Algebra, f: &G::Algebra, cost:
 
 #[inline(always)]
 fn guard<G: GroupNumerics>(theta: &G::Algebra, limit: f64, t_eval: f64, done: StepCost) -> Result<(), StepFault> {
+    if G::within_radius(theta, limit) {
+        return Ok(());
+    }
+    guard_fault::<G>(theta, limit, t_eval, done)
+}
+
+/// The failing branch of [`guard`] (out of line): the fault with the bound found.
+#[cold]
+#[inline(never)]
+fn guard_fault<G: GroupNumerics>(theta: &G::Algebra, limit: f64, t_eval: f64, done: StepCost) -> Result<(), StepFault> {
     let r = G::ad_radius(theta);
     if r <= limit {
         Ok(())
@@ -241,6 +262,68 @@ fn eval<Sys: System>(sys: &Sys, t: f64, y: &Sys::State) -> Result<Alg<Sys>, Step
     }
 }
 
+/// The dense output of a continuous extension with stages of its own
+/// ([`DenseStages`]): `K_S = dexp⁻¹_{−Θ} f(t₁, y₁)` from the step's end, the
+/// extra stages as in the step, then `θ(σ) = h Σᵢ bᵢ(σ) Kᵢ`.
+#[allow(clippy::too_many_arguments)]
+fn extended_dense<Sys: System>(
+    sys: &Sys,
+    ds: &DenseStages,
+    corr: Correction,
+    k: &[Alg<Sys>],
+    theta: &Alg<Sys>,
+    f1: &Alg<Sys>,
+    t: f64,
+    h: f64,
+    y0: &Sys::State,
+    radius_limit: f64,
+    cost: &mut StepCost,
+) -> Result<DensePoly<Alg<Sys>>, StepFault>
+where
+    Sys::State: GroupNumerics,
+{
+    type G<Sys> = <Sys as System>::State;
+    let s = k.len();
+    let mut kk = [Alg::<Sys>::zero(); EXTENDED_STAGES];
+    kk[..s].copy_from_slice(k);
+    kk[s] = correct::<G<Sys>>(corr, theta, f1, cost);
+    for i in s + 1..ds.stages {
+        let th = combine(&kk[..i], &ds.a[i][..i], h);
+        guard::<G<Sys>>(&th, radius_limit, t + ds.c[i] * h, *cost)?;
+        let yi = y0.compose(&G::<Sys>::exp(&th));
+        cost.exps += 1;
+        cost.rhs += 1;
+        let f = eval(sys, t + ds.c[i] * h, &yi)?;
+        kk[i] = correct::<G<Sys>>(corr, &th, &f, cost);
+    }
+    // The weights reach ~550 while Σᵢ bᵢ(σ) = σ exactly: combining the
+    // differences Kᵢ − K₁ (O(h)) instead of the Kᵢ keeps the cancellation
+    // out of the coefficients (cᵐ = h Σᵢ wₘᵢ (Kᵢ − K₁) + δₘ₁ h K₁), and the
+    // top coefficient is closed so that θ(1) = Θ to round-off.
+    let n = ds.stages;
+    for i in (1..n).rev() {
+        kk[i] = kk[i] - kk[0];
+    }
+    let mut coeffs = [Alg::<Sys>::zero(); DENSE_DEGREE];
+    let mut degree = 0;
+    for (m, c) in coeffs.iter_mut().enumerate() {
+        if ds.dense.coeffs[m].iter().any(|&w| w != 0.0) {
+            *c = combine(&kk[1..n], &ds.dense.coeffs[m][1..n], h);
+            degree = m + 1;
+        }
+    }
+    coeffs[0] = coeffs[0] + kk[0] * h;
+    if degree > 0 {
+        let top = degree - 1;
+        let mut rest = *theta;
+        for c in &coeffs[..top] {
+            rest = rest - *c;
+        }
+        coeffs[top] = rest;
+    }
+    Ok(DensePoly { coeffs, degree })
+}
+
 impl<Sys: System, const S: usize> Method<Sys> for Rkmk<S>
 where
     Sys::State: GroupNumerics,
@@ -249,7 +332,7 @@ where
         MethodInfo {
             name: self.tableau.name,
             order: self.tableau.order,
-            embedded_order: self.tableau.embedded.map(|e| e.order),
+            embedded_order: self.tableau.embedded.map(|e| e.estimate_order()),
             dense_order: self.dense_order(),
             stages: S,
             fsal: self.tableau.is_fsal()
@@ -343,7 +426,29 @@ where
                 for (i, wi) in w.iter_mut().enumerate() {
                     *wi = tab.b[i] - e.b_hat[i];
                 }
-                Some(combine(&k, &w, h))
+                let e1 = combine(&k, &w, h);
+                match &e.secondary {
+                    None => Some(e1),
+                    Some(sec) => {
+                        // DOP853: err = ‖e₁‖²/√(‖e₁‖² + w‖e₂‖²) = ‖ρe₁‖ with
+                        // ρ = ‖e₁‖/√(‖e₁‖² + w‖e₂‖²), the norms weighted by
+                        // 1/(1 + max(sᵢ(y₀), sᵢ(y₁))) — the driver's norm for
+                        // atol = rtol, up to the common factor tol.
+                        for (i, wi) in w.iter_mut().enumerate() {
+                            *wi = tab.b[i] - sec.b_hat[i];
+                        }
+                        let e2 = combine(&k, &w, h);
+                        let (s0, s1) = (y0.tolerance_scale(), y1.tolerance_scale());
+                        let (mut n1, mut n2) = (0.0, 0.0);
+                        for i in 0..<Alg<Sys> as AlgebraVector>::LEN {
+                            let sc = 1.0 + s0.get(i).max(s1.get(i));
+                            n1 += (e1.get(i) / sc).powi(2);
+                            n2 += (e2.get(i) / sc).powi(2);
+                        }
+                        let den = n1 + sec.weight * n2;
+                        Some(if den > 0.0 { e1 * (n1 / den).sqrt() } else { e1 })
+                    }
+                }
             }
             _ => None,
         };
@@ -372,6 +477,9 @@ where
                 }
             }
             Some(DensePoly { coeffs, degree })
+        } else if let Some(ds) = tab.dense_stages {
+            let f1 = f_end.unwrap_or_else(Alg::<Sys>::zero);
+            Some(extended_dense::<Sys>(sys, ds, corr, &k, &theta, &f1, t, h, y0, self.radius_limit, &mut cost)?)
         } else {
             // Cubic Hermite in θ: θ(0) = 0, θ'(0) = h K₁, θ(1) = Θ,
             // θ'(1) = h dexp⁻¹_{−Θ} f(t₁, y₁).

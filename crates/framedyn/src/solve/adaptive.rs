@@ -126,7 +126,9 @@ where
         } else if h.abs() < h_min {
             return Err(SolveError::StepSizeTooSmall { t, h, h_min });
         }
-        let req = StepRequest { f_start: f_cache, error: true, dense: run.need_dense, f_end: true };
+        // f(t₁, y₁) is free for FSAL methods; otherwise it is left to the
+        // next step's first stage, so a rejected step does not pay for it.
+        let req = StepRequest { f_start: f_cache, error: true, dense: run.need_dense, f_end: info.fsal };
         let out = match run.method.step(run.sys, t, &run.y, h, req) {
             Ok(out) => out,
             Err(StepFault::DexpRadius { radius, limit, cost }) => {
