@@ -24,7 +24,7 @@ use proptest::prelude::*;
 
 use crate::bundle_laws::rkmk4_step;
 
-fn config(cases: u32) -> ProptestConfig {
+pub(crate) fn config(cases: u32) -> ProptestConfig {
     ProptestConfig { cases, failure_persistence: None, ..ProptestConfig::default() }
 }
 
@@ -265,26 +265,25 @@ pub(crate) fn rk4_step<L: Lagrangian<Q>, const Q: usize>(
 pub(crate) type Traj = Option<(f64, f64)>;
 
 /// Worst difference (max over steps) of ambient position and body frame
-/// between RK4 on `(q, q̇)` and RKMK4 on the bundle state, `n` steps to
-/// t = 1, with the chart clearance of the path ([`Traj`]).
-#[allow(clippy::too_many_arguments)]
-fn trajectory_diff<L, S, const Q: usize, const N: usize, const E: usize>(
+/// between RK4 on `(q, q̇)` and RKMK4 on the bundle state built from the
+/// same paper variables (`coords::state_from_paper`), `n` steps to t = 1,
+/// with the chart clearance of the path ([`Traj`]).
+pub(crate) fn trajectory_diff<L, M, const Q: usize, const N: usize, const E: usize>(
     sys: &L,
-    model: &S,
-    y0: S::State,
+    model: &M,
     q0: SVector<f64, Q>,
     v0: SVector<f64, Q>,
     n: usize,
     clear: impl Fn(&SVector<f64, Q>) -> f64,
-    read: impl Fn(&S::State) -> (SVector<f64, E>, SMatrix<f64, E, N>),
 ) -> Traj
 where
     L: AmbientMap<Q, N, E>,
-    S: System,
+    M: AmbientBody<N, E>,
 {
     let h = 1.0 / n as f64;
-    let f = |t: f64, y: &S::State| model.vector_field(t, y);
-    let (mut q, mut v, mut y) = (q0, v0, y0);
+    let f = |t: f64, y: &M::State| model.vector_field(t, y);
+    let mut y = state_from_paper(sys, model, &q0, &v0).ok()?;
+    let (mut q, mut v) = (q0, v0);
     let mut worst: f64 = 0.0;
     let mut clearance = clear(&q);
     for i in 0..n {
@@ -292,10 +291,36 @@ where
         clearance = clearance.min(clear(&q));
         y = rkmk4_step(&y, i as f64 * h, h, &f);
         let amb = ambient_state(sys, &q, &v).ok()?;
-        let (x, e) = read(&y);
-        worst = worst.max((x - amb.position).amax()).max((e - amb.frame).amax());
+        let a = model.ambient(&y);
+        worst = worst.max((a.position - amb.position).amax()).max((a.frame - amb.frame).amax());
     }
     Some((worst, clearance))
+}
+
+/// Case count of the trajectory proptests: `PROPTEST_CASES` (or the
+/// test's default) but at most this many. Each case integrates several
+/// manifold × potential × body combinations over t = 1 with RK4 on the
+/// coordinate equations (automatic second derivatives at every stage) and
+/// RKMK4, refined up to 8× — seconds per case in the debug build, unlike
+/// the derivative checks at one state, which run the full count. At 256
+/// cases these tests took most of the integration suite's CI time.
+pub(crate) const TRAJECTORY_CASES: u32 = 32;
+
+/// Runs `test` as `proptest!` does (the `PROPTEST_*` environment, e.g. the
+/// seed, applies), on `default_cases` cases or `PROPTEST_CASES`, capped at
+/// `cap`. Panics with proptest's report (minimal failing input) on failure.
+pub(crate) fn run_capped<S>(name: &'static str, default_cases: u32, cap: u32, strategy: S, test: impl Fn(S::Value) -> Result<(), TestCaseError>)
+where
+    S: Strategy,
+    S::Value: std::fmt::Debug,
+{
+    let mut cfg = proptest::test_runner::contextualize_config(config(default_cases));
+    cfg.cases = cfg.cases.min(cap);
+    cfg.test_name = Some(name);
+    let mut runner = proptest::test_runner::TestRunner::new(cfg);
+    if let Err(e) = runner.run(&strategy, test) {
+        panic!("{name}: {e}");
+    }
 }
 
 const STEPS: usize = 400;
@@ -357,11 +382,8 @@ where
     P: Potential<2, 3> + Clone,
 {
     let sys = Gyroscope2::gyroscope(chart, PlaneRotation, &body, pot.clone());
-    let amb = ambient_state(&sys, &q, &v).unwrap();
-    let s = sys.comoving(&q, &v).unwrap().spin[(0, 1)];
     let model = Gyroscope2Model::new(bundle, body, pot).unwrap();
-    let y = model.state(&amb.position, &amb.velocity, &amb.frame, s).unwrap();
-    trajectory_diff(&sys, &model, y, q, v, n, clear, |y| (model.position(y), model.body_frame(y)))
+    trajectory_diff(&sys, &model, q, v, n, clear)
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -373,22 +395,18 @@ where
 {
     let point = Point::new(m).unwrap();
     let sys = PointLagrangian::new(chart, &point, pot.clone());
-    let amb = ambient_state(&sys, &q, &v).unwrap();
     let model = PointModel::<B, P, 2, 3>::new(bundle, point, pot).unwrap();
-    let y = model.state(&amb.position, &amb.velocity).unwrap();
-    // The point has no body frame (the coordinate side reports zeros).
-    trajectory_diff(&sys, &model, y, q, v, n, clear, |y| (model.position(y), SMatrix::<f64, 3, 2>::zeros()))
+    // The point has no body frame (both sides report zeros).
+    trajectory_diff(&sys, &model, q, v, n, clear)
 }
 
-proptest! {
-    #![proptest_config(config(6))]
-
-    #[test]
-    fn point_and_gyroscope2_trajectories_agree(
-        radius in 0.7..1.5f64, m in 0.7..1.5f64, moment in 0.3..1.0f64, lorentz in proptest::bool::ANY,
-        k in 0.1..1.0f64, b in -0.5..0.5f64,
-        th in 1.2..1.9f64, phi in -3.0..3.0f64, psi in -3.0..3.0f64, v in proptest::collection::vec(-0.5..0.5f64, 3),
-    ) {
+#[test]
+fn point_and_gyroscope2_trajectories_agree() {
+    let strategy = (
+        (0.7..1.5f64, 0.7..1.5f64, 0.3..1.0f64, proptest::bool::ANY, 0.1..1.0f64, -0.5..0.5f64),
+        (1.2..1.9f64, -3.0..3.0f64, -3.0..3.0f64, proptest::collection::vec(-0.5..0.5f64, 3)),
+    );
+    run_capped("point_and_gyroscope2_trajectories_agree", 6, TRAJECTORY_CASES, strategy, |((radius, m, moment, lorentz, k, b), (th, phi, psi, v))| {
         let body = Gyroscope::<2>::isotropic(m, moment).unwrap().with_signature(sig(lorentz));
         let vv = Vector3::new(v[0], v[1], v[2]);
         let s2 = Sphere2::new(radius).unwrap();
@@ -413,14 +431,17 @@ proptest! {
         let tc = TorusChart::new(bl, r).unwrap();
         let pot = Axial::<2, 3> { a: k, b, radius: r, axis: 2 };
         refine("T2 gyro axial + frame", |n| gyro2_traj(tc.clone(), t2, body, pot, Vector3::new(th * 2.0, phi, psi), vv, n, |_| 1.0))?;
-    }
+        Ok(())
+    });
+}
 
-    #[test]
-    fn gyroscope3_trajectories_agree(
-        radius in 0.8..1.5f64, m in 0.7..1.5f64, lorentz in proptest::bool::ANY,
-        j in proptest::collection::vec(0.3..1.0f64, 3), b in -0.5..0.5f64,
-        x in proptest::collection::vec(-0.5..0.5f64, 6), v in proptest::collection::vec(-0.5..0.5f64, 6),
-    ) {
+#[test]
+fn gyroscope3_trajectories_agree() {
+    let strategy = (
+        (0.8..1.5f64, 0.7..1.5f64, proptest::bool::ANY, proptest::collection::vec(0.3..1.0f64, 3), -0.5..0.5f64),
+        (proptest::collection::vec(-0.5..0.5f64, 6), proptest::collection::vec(-0.5..0.5f64, 6)),
+    );
+    run_capped("gyroscope3_trajectories_agree", 6, TRAJECTORY_CASES, strategy, |((radius, m, lorentz, j, b), (x, v))| {
         let body = Gyroscope::<3>::new(m, Matrix3::from_diagonal(&Vector3::new(j[0], j[1], j[2]))).unwrap()
             .with_signature(sig(lorentz));
         let mut q = SVector::<f64, 6>::from_column_slice(&x);
@@ -428,12 +449,9 @@ proptest! {
         let vv = SVector::<f64, 6>::from_column_slice(&v);
         let pot = Axial::<3, 4> { a: 0.2, b, radius, axis: 1 };
         let sys = Gyroscope3::gyroscope(Sphere3Chart::new(radius).unwrap(), RotationVector, &body, pot);
-        let amb = ambient_state(&sys, &q, &vv).unwrap();
-        let pi = gyro3_spin(&sys.comoving(&q, &vv).unwrap());
         let model = Gyroscope3Model::new(Sphere3::new(radius).unwrap(), body, pot).unwrap();
-        let y = model.state(&amb.position, &amb.velocity, &amb.frame, &pi).unwrap();
         // Clearance from the antipode, where the rotation-vector chart is singular.
         let clear = |q: &SVector<f64, 6>| 1.0 - q.fixed_rows::<3>(0).norm() / (std::f64::consts::PI * radius);
-        refine("S3 gyro axial + frame", |n| trajectory_diff(&sys, &model, y, q, vv, n, clear, |y| (model.position(y), model.body_frame(y))))?;
-    }
+        refine("S3 gyro axial + frame", |n| trajectory_diff(&sys, &model, q, vv, n, clear))
+    });
 }

@@ -4,13 +4,14 @@
 //! Weyl}Model`) against the paper's coordinate Lagrangian
 //! (`coords::FrameLagrangian`, (a52) with the co-moving velocity (a74) and
 //! the corrections of SPEC §7), at random chart states away from the
-//! singular sets, on S², H² and T².
+//! singular sets, on S², H² and T², and the full affine body on S³.
 //!
-//! Fibres of the coordinate side: the full body by [`GlEntries`] and by the
-//! two-polar decomposition [`TwoPolar`] `φ = U(α)·diag(λ, μ)·U(β)⁻¹`; the
-//! constrained bodies by the two-polar variables restricted to the
-//! constraint (holonomic constraints imposed on the Lagrangian itself, an
-//! independent route to the projected equations of the frame-bundle form):
+//! Fibres of the coordinate side: the full body by [`GlEntries`] (2 × 2 and,
+//! on S³, 3 × 3) and by the two-polar decomposition [`TwoPolar`]
+//! `φ = U(α)·diag(λ, μ)·U(β)⁻¹`; the constrained bodies by the two-polar
+//! variables restricted to the constraint ([`TwoPolarSl`], [`TwoPolarWeyl`]:
+//! holonomic constraints imposed on the Lagrangian itself, an independent
+//! route to the projected equations of the frame-bundle form):
 //! incompressible `λμ = 1` (`(α, β, λ)`), Weyl `λ = μ` (`(α, λ)`, `β`
 //! drops out).
 //!
@@ -21,11 +22,13 @@
 //! `ρ̇ = λ̇ρ₀ + λΓ(E)(V̂)ρ₀` is not `∝ ρ`: tried, `DilatationModel::state`
 //! rejects the state, field `"rho_dot"`, and `Ẍ` differs by 0.1).
 //!
-//! S³: the `coords` module has no GL(3) fibre (only the gyroscope's
-//! [`RotationVector`]), so the affine body on S³ is not cross-checked here.
+//! S³: the affine body (any symmetric positive definite `J`) in the
+//! rotation-vector chart `r̄` of the position and the entries of
+//! `φ ∈ GL⁺(3)`, with an oscillator and a frame-dependent potential.
 //!
-//! **Instantaneous** (relative 1e-12): the bundle state is built with the
-//! parallel frame equal to the paper's frame field at the instant, `q = E`,
+//! **Instantaneous** (relative 1e-12): the bundle state is built by
+//! `coords::state_from_paper`, whose parallel frame is the paper's frame
+//! field at the instant, `q = E`,
 //! so `ρ = φ`, `ρ̇ = X = φ̇ + Γ(E)(V̂)φ`, `u = V̂`. Compared: `Ẋ`, `ė = q̇ρ + qρ̇`
 //! (first-order data), `Ẍ = q u̇ + q̇ u` against `ambient_acceleration` at the
 //! Euler–Lagrange `q̈`, and the balance law of the hypermomentum: the
@@ -37,8 +40,8 @@
 //! **Trajectories** over t = 1: RK4 on `(q, q̇)` against RKMK4 on the bundle
 //! state, ambient position and body frame; accepted when the difference is
 //! below 1e-10 or shrinks ≥ 10× per doubling of the steps (as in
-//! `crosscheck.rs`); paths that come near a chart or fibre singularity are
-//! rejected.
+//! `crosscheck.rs`, whose `trajectory_diff` is shared); paths that come near
+//! a chart or fibre singularity are rejected.
 //!
 //! **Mutation check** (run by hand, not committed, emulated in this file's
 //! `derivs`): flipping the sign of the spin–curvature force (`u̇ + 2KSu/m`
@@ -56,85 +59,17 @@ use framedyn::dynamics::affine::{AffineBodyModel, InternalConstraint};
 use framedyn::dynamics::constrained::{IncompressibleModel, WeylModel};
 use framedyn::dynamics::System;
 use framedyn::lie::LieGroup;
-use framedyn::manifold::{Hyperbolic2, Sphere2, Torus2};
+use framedyn::manifold::{Hyperbolic2, Sphere2, Sphere3, Torus2};
 use framedyn::potential::{Centre, Elastic, Free, Kepler, Oscillator, Potential, Scalar, Sum};
-use framedyn::{Error, Result};
-use nalgebra::{Matrix2, SMatrix, SVector, Vector2};
+use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};
 use num_dual::Dual64;
 use proptest::prelude::*;
 
-use crate::bundle_laws::rkmk4_step;
-use crate::crosscheck::{rk4_step, Traj};
-
-fn config(cases: u32) -> ProptestConfig {
-    ProptestConfig { cases, failure_persistence: None, ..ProptestConfig::default() }
-}
+use crate::crosscheck::{config, run_capped, trajectory_diff, Traj, TRAJECTORY_CASES};
 
 /// Largest entry of `a − b` relative to `max(1, |b|_max)`.
 fn rel<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) -> f64 {
     (a - b).amax() / b.amax().max(1.0)
-}
-
-fn rot2<D: Scalar>(a: D) -> SMatrix<D, 2, 2> {
-    let (s, c) = a.sin_cos();
-    SMatrix::<D, 2, 2>::new(c, -s, s, c)
-}
-
-// ---------------------------------------------------------------------------
-// Constrained two-polar fibres (coordinate side)
-// ---------------------------------------------------------------------------
-
-/// SL(2) in two-polar variables: `φ = U(α)·diag(λ, 1/λ)·U(β)⁻¹`.
-#[derive(Debug, Clone, Copy)]
-struct SlPolar;
-
-impl Fibre<2, 3> for SlPolar {
-    const NAME: &'static str = "SL(2) two-polar";
-    const RIGID: bool = false;
-    fn coordinate_names(&self) -> [&'static str; 3] {
-        ["alpha", "beta", "lambda"]
-    }
-    fn check(&self, xi: &SVector<f64, 3>) -> Result<()> {
-        if xi[2] > 0.0 {
-            Ok(())
-        } else {
-            Err(Error::InvalidParameter { field: "lambda", value: xi[2], allowed: "> 0" })
-        }
-    }
-    fn matrix<D: Scalar>(&self, xi: &SVector<D, 3>) -> SMatrix<D, 2, 2> {
-        let z = D::from(0.0);
-        rot2(xi[0]) * SMatrix::<D, 2, 2>::new(xi[2], z, z, xi[2].recip()) * rot2(-xi[1])
-    }
-    fn coordinates(&self, phi: &SMatrix<f64, 2, 2>) -> Result<SVector<f64, 3>> {
-        let c = TwoPolar.coordinates(phi)?;
-        Ok(SVector::<f64, 3>::new(c[0], c[1], c[2]))
-    }
-}
-
-/// CO⁺(2): `φ = λ·U(α)`.
-#[derive(Debug, Clone, Copy)]
-struct WeylPolar;
-
-impl Fibre<2, 2> for WeylPolar {
-    const NAME: &'static str = "CO+(2)";
-    const RIGID: bool = false;
-    fn coordinate_names(&self) -> [&'static str; 2] {
-        ["alpha", "lambda"]
-    }
-    fn check(&self, xi: &SVector<f64, 2>) -> Result<()> {
-        if xi[1] > 0.0 {
-            Ok(())
-        } else {
-            Err(Error::InvalidParameter { field: "lambda", value: xi[1], allowed: "> 0" })
-        }
-    }
-    fn matrix<D: Scalar>(&self, xi: &SVector<D, 2>) -> SMatrix<D, 2, 2> {
-        rot2(xi[0]) * xi[1]
-    }
-    fn coordinates(&self, phi: &SMatrix<f64, 2, 2>) -> Result<SVector<f64, 2>> {
-        let l = phi.determinant().sqrt();
-        Ok(SVector::<f64, 2>::new(phi[(1, 0)].atan2(phi[(0, 0)]), l))
-    }
 }
 
 // ---------------------------------------------------------------------------
@@ -152,11 +87,11 @@ struct Axial {
     axis: usize,
 }
 
-impl Potential<2, 3> for Axial {
+impl<const N: usize, const E: usize> Potential<N, E> for Axial {
     fn uses_frame(&self) -> bool {
         self.b != 0.0
     }
-    fn value<D: Scalar>(&self, x: &SVector<D, 3>, e: &SMatrix<D, 3, 2>, _m: &SMatrix<f64, 3, 3>) -> D {
+    fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, _m: &SMatrix<f64, E, E>) -> D {
         x[self.axis] * (self.a / self.radius) + e[(self.axis, 0)] * self.b
     }
 }
@@ -166,16 +101,22 @@ impl Potential<2, 3> for Axial {
 // ---------------------------------------------------------------------------
 
 /// `K_E = φJXᵀ` with `X = φ̇ + Γ(E)(V̂)φ`, at any scalar type.
-fn k_e<Ch, F, D, const K: usize, const Q: usize>(chart: &Ch, fibre: &F, j: &Matrix2<f64>, q: &SVector<D, Q>, qd: &SVector<D, Q>) -> SMatrix<D, 2, 2>
+fn k_e<Ch, F, D, const N: usize, const E: usize, const K: usize, const Q: usize>(
+    chart: &Ch,
+    fibre: &F,
+    j: &SMatrix<f64, N, N>,
+    q: &SVector<D, Q>,
+    qd: &SVector<D, Q>,
+) -> SMatrix<D, N, N>
 where
-    Ch: ChartGeometry<2, 3>,
-    F: Fibre<2, K>,
+    Ch: ChartGeometry<N, E>,
+    F: Fibre<N, K>,
     D: Scalar,
 {
-    let x = SVector::<D, 2>::from_fn(|i, _| q[i]);
-    let xd = SVector::<D, 2>::from_fn(|i, _| qd[i]);
-    let xi = SVector::<D, K>::from_fn(|k, _| q[2 + k]);
-    let xid = SVector::<D, K>::from_fn(|k, _| qd[2 + k]);
+    let x = SVector::<D, N>::from_fn(|i, _| q[i]);
+    let xd = SVector::<D, N>::from_fn(|i, _| qd[i]);
+    let xi = SVector::<D, K>::from_fn(|k, _| q[N + k]);
+    let xid = SVector::<D, K>::from_fn(|k, _| qd[N + k]);
     let w = chart.coframe(&x) * xd;
     let drive = chart.connection_matrix(&x, &w);
     let (phi, phid) = fibre.matrix_and_rate(&xi, &xid);
@@ -183,62 +124,46 @@ where
     phi * j.map(D::from) * rate.transpose()
 }
 
-type Lag<Ch, F, V, const K: usize, const Q: usize> = FrameLagrangian<Ch, F, V, 2, 3, K, Q>;
+type Lag<Ch, F, V, const N: usize, const E: usize, const K: usize, const Q: usize> = FrameLagrangian<Ch, F, V, N, E, K, Q>;
 
 /// The coordinate Lagrangian of the same body as `model`, in the fibre `fibre`.
-fn lagrangian<Ch, F, B, V, C, const K: usize, const Q: usize>(chart: Ch, fibre: F, model: &AffineBodyModel<B, V, C, 2, 3>) -> Lag<Ch, F, V, K, Q>
+fn lagrangian<Ch, F, B, V, C, const N: usize, const E: usize, const K: usize, const Q: usize>(
+    chart: Ch,
+    fibre: F,
+    model: &AffineBodyModel<B, V, C, N, E>,
+) -> Lag<Ch, F, V, N, E, K, Q>
 where
-    Ch: ChartGeometry<2, 3>,
-    F: Fibre<2, K>,
-    B: FrameBundle<2, 3>,
-    V: Potential<2, 3> + Clone,
-    C: InternalConstraint<2>,
+    Ch: ChartGeometry<N, E>,
+    F: Fibre<N, K>,
+    B: FrameBundle<N, E>,
+    V: Potential<N, E> + Clone,
+    C: InternalConstraint<N>,
 {
     FrameLagrangian::new(chart, fibre, model.mass(), *model.inertia().matrix(), Signature::Riemannian, model.potential().clone()).unwrap()
 }
 
-/// The bundle state of `model` at the coordinate state `(q, q̇)`, with the
-/// parallel frame equal to the paper's frame field `E` at the instant.
-fn bundle_state<Ch, F, B, V, C, const K: usize, const Q: usize>(
-    sys: &Lag<Ch, F, V, K, Q>,
-    model: &AffineBodyModel<B, V, C, 2, 3>,
-    q: &SVector<f64, Q>,
-    qd: &SVector<f64, Q>,
-) -> Result<framedyn::dynamics::affine::BodyState<B, C, 2, 3>>
-where
-    Ch: ChartGeometry<2, 3>,
-    F: Fibre<2, K>,
-    B: FrameBundle<2, 3>,
-    V: Potential<2, 3>,
-    C: InternalConstraint<2>,
-{
-    let amb = ambient_state(sys, q, qd)?;
-    let cm = sys.comoving(q, qd)?;
-    let e_field = amb.frame * cm.phi.try_inverse().unwrap();
-    let g = model.bundle().from_frame(&amb.position, &e_field)?;
-    model.state(&g, &cm.phi, &cm.velocity, &cm.covariant_rate)
-}
-
 /// Discrepancies `[Ẋ, ė, Ẍ, d P(K)/dt]` between the model and the
-/// coordinate Lagrangian in `fibre` at `(q, q̇)`.
-fn derivs<Ch, F, B, V, C, const K: usize, const Q: usize>(
+/// coordinate Lagrangian in `fibre` at `(q, q̇)`. The bundle state comes from
+/// `coords::state_from_paper`, whose parallel frame is the paper's frame
+/// field `E` at the instant, so `ρ = φ`, `ρ̇ = X`, `u = V̂`.
+fn derivs<Ch, F, B, V, C, const N: usize, const E: usize, const K: usize, const Q: usize>(
     chart: Ch,
     fibre: F,
-    model: &AffineBodyModel<B, V, C, 2, 3>,
+    model: &AffineBodyModel<B, V, C, N, E>,
     q: SVector<f64, Q>,
     qd: SVector<f64, Q>,
 ) -> [f64; 4]
 where
-    Ch: ChartGeometry<2, 3>,
-    F: Fibre<2, K>,
-    B: FrameBundle<2, 3>,
-    V: Potential<2, 3> + Clone,
-    C: InternalConstraint<2>,
+    Ch: ChartGeometry<N, E>,
+    F: Fibre<N, K>,
+    B: FrameBundle<N, E>,
+    V: Potential<N, E> + Clone,
+    C: InternalConstraint<N>,
 {
     let sys = lagrangian(chart.clone(), fibre.clone(), model);
     let amb = ambient_state(&sys, &q, &qd).unwrap();
     let cm = sys.comoving(&q, &qd).unwrap();
-    let y = bundle_state(&sys, model, &q, &qd).unwrap();
+    let y = state_from_paper(&sys, model, &q, &qd).unwrap();
     let b = model.bundle();
     let g = &y.0 .0;
     let f = model.vector_field(0.0, &y);
@@ -254,13 +179,13 @@ where
     let j = *model.inertia().matrix();
     let qdual = SVector::<Dual64, Q>::from_fn(|i, _| Dual64::new(q[i], qd[i]));
     let qddual = SVector::<Dual64, Q>::from_fn(|i, _| Dual64::new(qd[i], qdd[i]));
-    let kd = k_e(&chart, &fibre, &j, &qdual, &qddual);
+    let kd = k_e::<Ch, F, Dual64, N, E, K, Q>(&chart, &fibre, &j, &qdual, &qddual);
     let (kk, kdot_e) = (kd.map(|v| v.re), kd.map(|v| v.eps));
     let gam = cm.drive;
     let kdot = kdot_e + gam * kk + kk * gam.transpose();
     let want = model.constraint().project(&kdot);
-    type Mom<C> = <C as InternalConstraint<2>>::Momentum;
-    let (a, w) = (<Mom<C> as LieGroup>::algebra_coords(&f.1 .1), <Mom<C> as LieGroup>::algebra_coords(&want));
+    type Mom<Cc, const M: usize> = <Cc as InternalConstraint<M>>::Momentum;
+    let (a, w) = (<Mom<C, N> as LieGroup>::algebra_coords(&f.1 .1), <Mom<C, N> as LieGroup>::algebra_coords(&want));
     // Scale: the coordinate side obtains the fibre part of `q̈` by solving
     // `M q̈ = ∂L/∂q − C q̇` for all of `q̈` at once, so its rounding error is
     // relative to the largest acceleration (a strong translational force near
@@ -409,10 +334,10 @@ proptest! {
             let x = chart_point(which, radius, s, phi);
             let model = IncompressibleModel::new(bundle, Incompressible::new(m, jm).unwrap(), pot).unwrap();
             let q = q_of::<3, 5>(&x, &[alpha, beta, lambda]);
-            assert_all(&format!("{label} incompressible"), &derivs(chart.clone(), SlPolar, &model, q, SVector::<f64, 5>::from_column_slice(&v)))?;
+            assert_all(&format!("{label} incompressible"), &derivs(chart.clone(), TwoPolarSl, &model, q, SVector::<f64, 5>::from_column_slice(&v)))?;
             let model = WeylModel::new(bundle, Weyl::new(m, jm).unwrap(), pot).unwrap();
             let q = q_of::<2, 4>(&x, &[alpha, l2]);
-            assert_all(&format!("{label} Weyl"), &derivs(chart.clone(), WeylPolar, &model, q, SVector::<f64, 4>::from_column_slice(&v[..4])))?;
+            assert_all(&format!("{label} Weyl"), &derivs(chart.clone(), TwoPolarWeyl, &model, q, SVector::<f64, 4>::from_column_slice(&v[..4])))?;
         });
     }
 }
@@ -420,39 +345,6 @@ proptest! {
 // ---------------------------------------------------------------------------
 // Trajectories over t = 1
 // ---------------------------------------------------------------------------
-
-/// Worst difference (max over the steps) of ambient position and body frame
-/// between RK4 on `(q, q̇)` and RKMK4 on the bundle state, `n` steps to t = 1.
-fn trajectory_diff<Ch, F, B, V, C, const K: usize, const Q: usize>(
-    sys: &Lag<Ch, F, V, K, Q>,
-    model: &AffineBodyModel<B, V, C, 2, 3>,
-    q0: SVector<f64, Q>,
-    v0: SVector<f64, Q>,
-    n: usize,
-    clear: &impl Fn(&SVector<f64, Q>) -> f64,
-) -> Traj
-where
-    Ch: ChartGeometry<2, 3>,
-    F: Fibre<2, K>,
-    B: FrameBundle<2, 3>,
-    V: Potential<2, 3>,
-    C: InternalConstraint<2>,
-{
-    let h = 1.0 / n as f64;
-    let f = |t: f64, y: &framedyn::dynamics::affine::BodyState<B, C, 2, 3>| model.vector_field(t, y);
-    let mut y = bundle_state(sys, model, &q0, &v0).ok()?;
-    let (mut q, mut v) = (q0, v0);
-    let mut worst: f64 = 0.0;
-    let mut clearance = clear(&q);
-    for i in 0..n {
-        (q, v) = rk4_step(sys, &q, &v, h)?;
-        clearance = clearance.min(clear(&q));
-        y = rkmk4_step(&y, i as f64 * h, h, &f);
-        let amb = ambient_state(sys, &q, &v).ok()?;
-        worst = worst.max((model.position(&y) - amb.position).amax()).max((model.body_frame(&y) - amb.frame).amax());
-    }
-    Some((worst, clearance))
-}
 
 const STEPS: usize = 200;
 /// Paths closer than this to a chart singularity (`sin(r/R)` on S², `r/R`
@@ -484,18 +376,17 @@ fn chart_clearance(which: usize, radius: f64, x0: f64, x1: f64) -> f64 {
     }
 }
 
-proptest! {
-    #![proptest_config(config(2))]
-
-    /// Full affine body (fibre `GlEntries`, no fibre singularity) and the
-    /// incompressible and Weyl bodies, every manifold × potential, over t = 1.
-    #[test]
-    fn affine_family_trajectories_agree(
-        radius in 0.8..1.5f64, m in 0.7..1.5f64, j in proptest::collection::vec(0.3..0.8f64, 2), joff in -0.1..0.1f64,
-        k in 0.2..0.8f64, b in -0.5..0.5f64, s in 0.3..0.7f64, phi in 0.5..1.0f64,
-        alpha in -3.0..3.0f64, beta in -3.0..3.0f64, lambda in 1.3..1.6f64, mu in 0.6..0.8f64,
-        v in proptest::collection::vec(-0.4..0.4f64, 6),
-    ) {
+/// Full affine body (fibre `GlEntries`, no fibre singularity) and the
+/// incompressible and Weyl bodies, every manifold × potential, over t = 1
+/// (at most [`TRAJECTORY_CASES`] cases: 30 trajectory comparisons each).
+#[test]
+fn affine_family_trajectories_agree() {
+    let strategy = (
+        (0.8..1.5f64, 0.7..1.5f64, proptest::collection::vec(0.3..0.8f64, 2), -0.1..0.1f64, 0.2..0.8f64, -0.5..0.5f64),
+        (0.3..0.7f64, 0.5..1.0f64, -3.0..3.0f64, -3.0..3.0f64, 1.3..1.6f64, 0.6..0.8f64),
+        proptest::collection::vec(-0.4..0.4f64, 6),
+    );
+    run_capped("affine_family_trajectories_agree", 2, TRAJECTORY_CASES, strategy, |((radius, m, j, joff, k, b), (s, phi, alpha, beta, lambda, mu), v)| {
         let jm = inertia(&[j[0], j[1], joff]);
         // A path that nears a chart or fibre singularity is skipped for that
         // body and manifold only (rejecting the whole case would discard the
@@ -522,23 +413,90 @@ proptest! {
                 chart_clearance(which, radius, q[0], q[1]).min(st.min())
             };
             let qd = SVector::<f64, 6>::from_column_slice(&v);
-            soft(refine(&format!("{label} affine"), |n| trajectory_diff(&sys, &model, q, qd, n, &clear)))?;
+            soft(refine(&format!("{label} affine"), |n| trajectory_diff(&sys, &model, q, qd, n, clear)))?;
 
             let model = IncompressibleModel::new(bundle, Incompressible::new(m, jm).unwrap(), pot).unwrap();
-            let sys = lagrangian(chart.clone(), SlPolar, &model);
+            let sys = lagrangian(chart.clone(), TwoPolarSl, &model);
             let q = q_of::<3, 5>(&x, &[alpha, beta, lambda]);
             let clear = |q: &SVector<f64, 5>| chart_clearance(which, radius, q[0], q[1]).min((q[4] - q[4].recip()).abs() / (q[4] + q[4].recip()));
             let qd = SVector::<f64, 5>::from_column_slice(&v[..5]);
-            soft(refine(&format!("{label} incompressible"), |n| trajectory_diff(&sys, &model, q, qd, n, &clear)))?;
+            soft(refine(&format!("{label} incompressible"), |n| trajectory_diff(&sys, &model, q, qd, n, clear)))?;
 
             let model = WeylModel::new(bundle, Weyl::new(m, jm).unwrap(), pot).unwrap();
-            let sys = lagrangian(chart.clone(), WeylPolar, &model);
+            let sys = lagrangian(chart.clone(), TwoPolarWeyl, &model);
             let q = q_of::<2, 4>(&x, &[alpha, lambda]);
             let clear = |q: &SVector<f64, 4>| chart_clearance(which, radius, q[0], q[1]).min(q[3]);
             let qd = SVector::<f64, 4>::from_column_slice(&v[..4]);
-            soft(refine(&format!("{label} Weyl"), |n| trajectory_diff(&sys, &model, q, qd, n, &clear)))?;
+            soft(refine(&format!("{label} Weyl"), |n| trajectory_diff(&sys, &model, q, qd, n, clear)))?;
         });
         // Most comparisons of a case run (the start is kept off the singular sets).
         prop_assert!(compared >= 6, "only {compared} comparisons ran");
+        Ok(())
+    });
+}
+
+// ---------------------------------------------------------------------------
+// S³
+// ---------------------------------------------------------------------------
+
+/// The affine body on S³ at `(r̄, φ_ij)` with `φ = exp([κ]×) + f`.
+fn s3_state(radius: f64, x: &[f64], kappa: &[f64], f: &[f64]) -> Option<SVector<f64, 12>> {
+    let phi = RotationVector.matrix(&Vector3::new(kappa[0], kappa[1], kappa[2])) + SMatrix::<f64, 3, 3>::from_row_slice(f);
+    // Away from collapse (det φ → 0), where the entries' chart is fine but
+    // the motion is stiff.
+    (phi.determinant() > 0.3).then(|| SVector::<f64, 12>::from_fn(|i, _| if i < 3 { x[i] * radius } else { phi[((i - 3) / 3, (i - 3) % 3)] }))
+}
+
+fn inertia3(j: &[f64], off: &[f64]) -> Matrix3<f64> {
+    Matrix3::new(j[0], off[0], off[1], off[0], j[1], off[2], off[1], off[2], j[2])
+}
+
+proptest! {
+    #![proptest_config(config(16))]
+
+    /// The full affine body on S³ (fibre `GlEntries` 3 × 3), free and with an
+    /// oscillator plus a frame term, anisotropic `J`.
+    #[test]
+    fn sphere3_affine_derivatives_agree(
+        radius in 0.6..1.8f64, m in 0.5..2.0f64, j in proptest::collection::vec(0.2..0.8f64, 3), off in proptest::collection::vec(-0.05..0.05f64, 3),
+        k in 0.2..1.5f64, b in -1.0..1.0f64, x in proptest::collection::vec(-0.6..0.6f64, 3),
+        kappa in proptest::collection::vec(-1.5..1.5f64, 3), f in proptest::collection::vec(-0.3..0.3f64, 9),
+        v in proptest::collection::vec(-1.0..1.0f64, 12),
+    ) {
+        let Some(q) = s3_state(radius, &x, &kappa, &f) else { return Err(TestCaseError::reject("det φ ≤ 0.3")) };
+        let qd = SVector::<f64, 12>::from_column_slice(&v);
+        let body = Affine::<3>::new(m, inertia3(&j, &off)).unwrap();
+        let s3 = Sphere3::new(radius).unwrap();
+        let chart = Sphere3Chart::new(radius).unwrap();
+        let model = framedyn::dynamics::affine::AffineModel::new(s3, body, Free).unwrap();
+        assert_all("S3 free", &derivs::<_, GlEntries, _, _, _, 3, 4, 9, 12>(chart, GlEntries, &model, q, qd))?;
+        let pot = Sum::new(Oscillator::new(k, Centre::sphere3(&s3)).unwrap(), Axial { a: 0.3, b, radius, axis: 2 });
+        let model = framedyn::dynamics::affine::AffineModel::new(s3, body, pot).unwrap();
+        assert_all("S3 oscillator + frame", &derivs::<_, GlEntries, _, _, _, 3, 4, 9, 12>(chart, GlEntries, &model, q, qd))?;
     }
+}
+
+/// The S³ affine body over t = 1 (at most [`TRAJECTORY_CASES`] cases).
+#[test]
+fn sphere3_affine_trajectories_agree() {
+    let strategy = (
+        (0.8..1.5f64, 0.7..1.5f64, proptest::collection::vec(0.3..0.8f64, 3), proptest::collection::vec(-0.05..0.05f64, 3), 0.2..0.8f64, -0.5..0.5f64),
+        (proptest::collection::vec(-0.5..0.5f64, 3), proptest::collection::vec(-1.0..1.0f64, 3), proptest::collection::vec(-0.2..0.2f64, 9)),
+        proptest::collection::vec(-0.4..0.4f64, 12),
+    );
+    run_capped("sphere3_affine_trajectories_agree", 2, TRAJECTORY_CASES, strategy, |((radius, m, j, off, k, b), (x, kappa, f), v)| {
+        let Some(q) = s3_state(radius, &x, &kappa, &f) else { return Err(TestCaseError::reject("det φ ≤ 0.3")) };
+        let qd = SVector::<f64, 12>::from_column_slice(&v);
+        let s3 = Sphere3::new(radius).unwrap();
+        let body = Affine::<3>::new(m, inertia3(&j, &off)).unwrap();
+        let pot = Sum::new(Oscillator::new(k, Centre::sphere3(&s3)).unwrap(), Axial { a: 0.3, b, radius, axis: 2 });
+        let model = framedyn::dynamics::affine::AffineModel::new(s3, body, pot).unwrap();
+        let sys = lagrangian::<_, GlEntries, _, _, _, 3, 4, 9, 12>(Sphere3Chart::new(radius).unwrap(), GlEntries, &model);
+        // Clearance: from the antipode of the chart and from collapse of φ.
+        let clear = |q: &SVector<f64, 12>| {
+            let phi = SMatrix::<f64, 3, 3>::from_fn(|a, c| q[3 + 3 * a + c]);
+            (1.0 - q.fixed_rows::<3>(0).norm() / (std::f64::consts::PI * radius)).min(phi.singular_values().min())
+        };
+        refine("S3 affine oscillator + frame", |n| trajectory_diff(&sys, &model, q, qd, n, clear))
+    });
 }

@@ -74,6 +74,10 @@ impl<C: ChartGeometry<N, E>, P: Potential<N, E>, const N: usize, const E: usize>
     fn configuration_from_ambient(&self, position: &SVector<f64, E>, _frame: &SMatrix<f64, E, N>) -> Result<SVector<f64, N>> {
         self.chart.chart_point(position)
     }
+    /// `E(x)` in ambient components.
+    fn reference_frame(&self, q: &SVector<f64, N>) -> SMatrix<f64, E, N> {
+        self.chart.ambient_frame(q)
+    }
 }
 
 /// Relative defect of a frame reconstructed from its components.
@@ -347,5 +351,9 @@ where
         }
         let xi = self.fibre.coordinates(&phi)?;
         Ok(SVector::from_fn(|i, _| if i < N { x[i] } else { xi[i - N] }))
+    }
+    /// `E(x)` in ambient components.
+    fn reference_frame(&self, q: &SVector<f64, Q>) -> SMatrix<f64, E, N> {
+        self.chart.ambient_frame(&Self::split(q).0)
     }
 }

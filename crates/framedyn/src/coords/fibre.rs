@@ -315,3 +315,112 @@ impl Fibre<2, 4> for PolarDecomposition {
         Ok(SVector::<f64, 4>::new(u[(1, 0)].atan2(u[(0, 0)]), a[(0, 0)], a[(0, 1)], a[(1, 1)]))
     }
 }
+
+fn check_stretch(field: &'static str, v: f64) -> Result<()> {
+    if v > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::InvalidParameter { field, value: v, allowed: "> 0 (principal stretch)" })
+    }
+}
+
+/// The two-polar decomposition restricted to SL(2), the incompressible body
+/// of §4 (`det φ = λμ = 1`): `φ = L(α)·diag(λ, 1/λ)·R(β)⁻¹`,
+/// `ξ = (α, β, λ)`, `λ > 0`. The holonomic constraint is imposed on the
+/// Lagrangian itself, so [`FrameLagrangian`](super::FrameLagrangian) with
+/// this fibre gives the projected equations of the incompressible body
+/// independently of the frame-bundle form. Singular where `λ = 1` (the
+/// branch of [`TwoPolar`]: `λ > 1`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct TwoPolarSl;
+
+impl Fibre<2, 3> for TwoPolarSl {
+    const NAME: &'static str = "SL(2) two-polar";
+    const RIGID: bool = false;
+
+    fn coordinate_names(&self) -> [&'static str; 3] {
+        ["alpha", "beta", "lambda"]
+    }
+    /// `Ok` iff all three are finite and `λ > 0`.
+    fn check(&self, xi: &SVector<f64, 3>) -> Result<()> {
+        finite("xi = (alpha, beta, lambda)", xi.iter())?;
+        check_stretch("lambda", xi[2])
+    }
+    fn matrix<D: Scalar>(&self, xi: &SVector<D, 3>) -> SMatrix<D, 2, 2> {
+        let z = D::from(0.0);
+        rot2(xi[0]) * SMatrix::<D, 2, 2>::new(xi[2], z, z, xi[2].recip()) * rot2(-xi[1])
+    }
+    /// `(α, β, λ)` of [`TwoPolar::coordinates`]; fails as it does, and with
+    /// [`Error::Constraint`] (field `"phi"`) unless `det φ = 1` to 1e-9.
+    fn coordinates(&self, phi: &SMatrix<f64, 2, 2>) -> Result<SVector<f64, 3>> {
+        let c = TwoPolar.coordinates(phi)?;
+        let d = (c[2] * c[3] - 1.0).abs();
+        if d > ORTHOGONALITY_TOLERANCE {
+            return Err(Error::Constraint { field: "phi", constraint: "det φ = 1 (φ ∈ SL(2))", defect: d, tolerance: ORTHOGONALITY_TOLERANCE });
+        }
+        Ok(SVector::<f64, 3>::new(c[0], c[1], c[2]))
+    }
+}
+
+/// The two-polar decomposition restricted to CO⁺(2), the Weyl body of §4
+/// (rotations and dilatations, `λ = μ`): `φ = λ·U(α)`, `ξ = (α, λ)`,
+/// `λ > 0` (`β` drops out). A global chart of CO⁺(2) up to `α mod 2π`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct TwoPolarWeyl;
+
+impl Fibre<2, 2> for TwoPolarWeyl {
+    const NAME: &'static str = "CO+(2) polar";
+    const RIGID: bool = false;
+
+    fn coordinate_names(&self) -> [&'static str; 2] {
+        ["alpha", "lambda"]
+    }
+    /// `Ok` iff both are finite and `λ > 0`.
+    fn check(&self, xi: &SVector<f64, 2>) -> Result<()> {
+        finite("xi = (alpha, lambda)", xi.iter())?;
+        check_stretch("lambda", xi[1])
+    }
+    fn matrix<D: Scalar>(&self, xi: &SVector<D, 2>) -> SMatrix<D, 2, 2> {
+        rot2(xi[0]) * xi[1]
+    }
+    /// `λ = √det φ`, `α = atan2(φ₂₁, φ₁₁)`; fails unless `det φ > 0` and
+    /// `φ/λ ∈ SO(2)` to [`ORTHOGONALITY_TOLERANCE`] (field `"phi"`).
+    fn coordinates(&self, phi: &SMatrix<f64, 2, 2>) -> Result<SVector<f64, 2>> {
+        let l = check_det_positive(phi)?.sqrt();
+        check_rotation(&(phi / l))?;
+        Ok(SVector::<f64, 2>::new(phi[(1, 0)].atan2(phi[(0, 0)]), l))
+    }
+}
+
+/// A general frame `φ ∈ GL⁺(3)` by its nine entries, row by row (the affine
+/// body on S³, §6): `ξ = (φ₁₁, φ₁₂, φ₁₃, φ₂₁, …, φ₃₃)`. Global on `det φ > 0`.
+impl Fibre<3, 9> for GlEntries {
+    const NAME: &'static str = "GL+(3) entries";
+    const RIGID: bool = false;
+
+    fn coordinate_names(&self) -> [&'static str; 9] {
+        ["phi11", "phi12", "phi13", "phi21", "phi22", "phi23", "phi31", "phi32", "phi33"]
+    }
+    /// `Ok` iff the entries are finite and `det φ > 0`.
+    fn check(&self, xi: &SVector<f64, 9>) -> Result<()> {
+        check_det3_positive(&self.matrix(xi)).map(|_| ())
+    }
+    fn matrix<D: Scalar>(&self, xi: &SVector<D, 9>) -> SMatrix<D, 3, 3> {
+        SMatrix::<D, 3, 3>::from_fn(|i, j| xi[3 * i + j])
+    }
+    /// The entries of `φ`; fails unless `det φ > 0`.
+    fn coordinates(&self, phi: &SMatrix<f64, 3, 3>) -> Result<SVector<f64, 9>> {
+        check_det3_positive(phi)?;
+        Ok(SVector::<f64, 9>::from_fn(|k, _| phi[(k / 3, k % 3)]))
+    }
+}
+
+fn check_det3_positive(phi: &SMatrix<f64, 3, 3>) -> Result<f64> {
+    finite("phi", phi.iter())?;
+    let det = phi.determinant();
+    if det > 0.0 {
+        Ok(det)
+    } else {
+        Err(Error::Constraint { field: "phi", constraint: "det φ > 0 (φ ∈ GL⁺(3))", defect: -det, tolerance: 0.0 })
+    }
+}

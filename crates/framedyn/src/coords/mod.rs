@@ -14,8 +14,10 @@
 //!   [`HyperbolicChart`] (H², `(r, φ)`), [`TorusChart`] (T², `(θ, φ)`),
 //!   [`Sphere3Chart`] (S³, rotation vector `r̄`).
 //! - [`Fibre`]: the internal configuration `φ(ξ)`, `e = E(x)·φ` —
-//!   [`PlaneRotation`] `U(ψ)`, [`RotationVector`] (SO(3)), [`GlEntries`],
-//!   [`TwoPolar`] `(α, β, λ, μ)`, [`PolarDecomposition`] `(ψ, ξ, η, ζ)`.
+//!   [`PlaneRotation`] `U(ψ)`, [`RotationVector`] (SO(3)), [`GlEntries`]
+//!   (GL⁺(2) and GL⁺(3)), [`TwoPolar`] `(α, β, λ, μ)`, its restrictions
+//!   [`TwoPolarSl`] `(α, β, λ)` (incompressible) and [`TwoPolarWeyl`]
+//!   `(α, λ)` (Weyl), [`PolarDecomposition`] `(ψ, ξ, η, ζ)`.
 //! - [`Lagrangian`] `L(q, q̇) = T − V` from (a52) with the co-moving velocity
 //!   (a74): [`PointLagrangian`], [`FrameLagrangian`] (aliases [`Gyroscope2`],
 //!   [`Affine2`], [`TwoPolarAffine2`], [`PolarAffine2`], [`Gyroscope3`]).
@@ -28,6 +30,10 @@
 //!   frame vectors and their rates in the embedding space),
 //!   [`ambient_acceleration`] (second derivatives along a trajectory) and the
 //!   inverse [`from_ambient`].
+//! - States of the production models ([`dynamics`](crate::dynamics)) from
+//!   and to the paper's variables and embedding-space data ([`AmbientBody`],
+//!   [`state_from_paper`], [`paper_from_state`], [`state_from_paper_momenta`],
+//!   [`paper_momenta_from_state`]).
 //!
 //! **Where it fails.** At the poles of S² (`r = 0, πR`) and the origin of H²
 //! the chart and the frame `E_φ` are singular: the mass matrix degenerates
@@ -42,10 +48,12 @@ mod body;
 mod chart;
 mod fibre;
 mod series;
+mod state;
 
 pub use body::*;
 pub use chart::*;
 pub use fibre::*;
+pub use state::*;
 
 use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 use num_dual::{Dual2, Dual2SVec64, Dual64, HyperDualSVec64};
@@ -88,6 +96,11 @@ pub trait AmbientMap<const Q: usize, const N: usize, const E: usize>: Lagrangian
     /// where several exist), with typed errors off the configuration space
     /// or at singular points of the coordinates.
     fn configuration_from_ambient(&self, position: &SVector<f64, E>, frame: &SMatrix<f64, E, N>) -> Result<SVector<f64, Q>>;
+    /// The paper's frame field `E_A(x)` at the configuration `q` (columns,
+    /// ambient components; orthonormal, tangent, of the frame bundles'
+    /// orientation): the parallel frame of the states built by
+    /// [`state_from_paper`], in which the internal configuration is `φ(ξ)`.
+    fn reference_frame(&self, q: &SVector<f64, Q>) -> SMatrix<f64, E, N>;
 }
 
 /// `L` and its first and second derivatives at one state.
