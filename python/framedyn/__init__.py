@@ -25,14 +25,14 @@ orders of magnitude slower than the built-in potentials of the scene files.
 
 from __future__ import annotations
 
-from typing import Any, Callable, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from . import _framedyn
 from ._errors import FramedynError, IntegrationError, InternalError, InvalidInputError, OutputError
 from ._scene import INITIAL_FIELDS, Scene, as_scenes
-from ._solution import BatchSolution, Solution
+from ._solution import BatchSolution, EventRecords, Solution
 
 __version__: str = _framedyn.__version__
 
@@ -40,6 +40,8 @@ __all__ = [
     "Scene",
     "Solution",
     "BatchSolution",
+    "EventRecords",
+    "Event",
     "Stepper",
     "solve",
     "solve_batch",
@@ -73,13 +75,81 @@ def _with_partial(e: BaseException) -> BaseException:
     return e
 
 
-def solve(scene: Union[Scene, Mapping[str, Any]], *, user_potential: Optional[UserPotential] = None) -> Solution:
+EventFunction = Callable[[float, Dict[str, float]], float]
+
+
+class Event:
+    """A user event for :func:`solve`: the crossings of ``f(t, state) = 0``,
+    ``state`` a dict of every record column at ``t`` (all quantities, e.g.
+    ``state["x2"]``, ``state["r"]``, ``state["energy"]``), located by Brent's
+    method on the method's own continuous extension (as the scene's built-in
+    ``[[events]]`` kinds ``plane``, ``distance``, ``column``).
+
+    ``direction``: ``"rising"``, ``"falling"`` or ``"either"``;
+    ``terminal``: stop the run at the first crossing. Every evaluation takes
+    the GIL: slower than the built-in kinds. An exception raised by ``f``
+    stops the run and is re-raised by :func:`solve`.
+    """
+
+    __slots__ = ("f", "name", "direction", "terminal")
+
+    def __init__(self, f: EventFunction, name: Optional[str] = None, *, direction: str = "either", terminal: bool = False) -> None:
+        if not callable(f):
+            raise InvalidInputError(f"Event: `f` must be callable f(t, state) -> float, got {type(f).__name__}")
+        if direction not in ("rising", "falling", "either"):
+            raise InvalidInputError(f"invalid `direction` = {direction!r}: allowed: 'rising', 'falling', 'either'")
+        if not isinstance(terminal, bool):
+            raise InvalidInputError(f"invalid `terminal` = {terminal!r}: must be a bool")
+        if name is not None and (not isinstance(name, str) or not name or any(c in name for c in ',"\n')):
+            raise InvalidInputError(f"invalid `name` = {name!r}: a non-empty string without commas, quotes or newlines")
+        self.f = f
+        self.name = name
+        self.direction = direction
+        self.terminal = terminal
+
+    def __repr__(self) -> str:
+        return f"Event({self.name!r}, direction={self.direction!r}, terminal={self.terminal})"
+
+
+def _events(events: Optional[Sequence[Union[Event, EventFunction]]]) -> Optional[List[Tuple[str, EventFunction, str, bool]]]:
+    if events is None:
+        return None
+    if isinstance(events, (Event,)) or callable(events):
+        events = [events]  # type: ignore[list-item]
+    out = []
+    for i, e in enumerate(events):  # type: ignore[union-attr]
+        if not isinstance(e, Event):
+            if not callable(e):
+                raise InvalidInputError(f"invalid `events[{i}]`: a {type(e).__name__}; allowed: a framedyn.Event or a callable f(t, state) -> float")
+            e = Event(e)
+        out.append((e.name or f"user{i}", e.f, e.direction, e.terminal))
+    return out
+
+
+def solve(
+    scene: Union[Scene, Mapping[str, Any]],
+    *,
+    user_potential: Optional[UserPotential] = None,
+    events: Optional[Sequence[Union[Event, EventFunction]]] = None,
+    save: bool = False,
+) -> Solution:
     """Runs ``scene`` over its time span and returns its records.
 
     ``user_potential``: an optional Python callable ``V(x, e) -> float``
-    added to the scene's potential (slow: see the module docs). The run
+    added to the scene's potential (slow: see the module docs). ``events``:
+    user events (:class:`Event` or bare callables ``f(t, state)``) after the
+    scene's ``[[events]]``; the located ones are ``solution.events``. The run
     releases the GIL; Ctrl-C stops it within about 50 ms
     (``KeyboardInterrupt``).
+
+    Files: ``solve`` keeps the records in memory and writes nothing unless
+    ``save=True`` (a library call should not create files as a side effect
+    of the scene's ``output.path``, which is the CLI's default). With
+    ``save=True`` the records go to the scene's ``output.path`` (default
+    ``trajectory.csv``) in its ``output.format`` (default from the
+    extension), in the layout ``framedyn run`` writes (same header and columns;
+    numbers in Python's shortest round-trip form); or call
+    :meth:`Solution.save` with any path.
 
     Raises :class:`InvalidInputError` for an invalid scene and
     :class:`IntegrationError` (with ``.partial``, the records up to the last
@@ -87,11 +157,20 @@ def solve(scene: Union[Scene, Mapping[str, Any]], *, user_potential: Optional[Us
     ``user_potential`` is re-raised as it is (also with ``.partial``).
     """
     s = _check_scene(scene)
+    if not isinstance(save, bool):
+        raise InvalidInputError(f"invalid `save` = {save!r}: must be a bool")
+    evs = _events(events)
     try:
-        raw = _framedyn.run(s._native, user_potential)
+        raw = _framedyn.run(s._native, user_potential, evs)
     except BaseException as e:
         raise _with_partial(e)
-    return Solution._from_raw(raw)
+    sol = Solution._from_raw(raw)
+    if save:
+        out = s.to_dict().get("output", {})
+        fmt = out.get("format")
+        path = out.get("path") or ("trajectory.npz" if fmt == "npz" else "trajectory.csv")
+        sol.save(path, fmt)
+    return sol
 
 
 def solve_batch(
@@ -148,7 +227,7 @@ class Stepper:
     with the GIL released.
     """
 
-    __slots__ = ("_native", "scene")
+    __slots__ = {"_native": "The native stepper.", "scene": "The :class:`Scene` being stepped (checked copy)."}
 
     def __init__(self, scene: Union[Scene, Mapping[str, Any]], *, user_potential: Optional[UserPotential] = None) -> None:
         self.scene: Scene = _check_scene(scene)

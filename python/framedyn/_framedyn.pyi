@@ -54,8 +54,12 @@ class Stepper:
     def row(self) -> npt.NDArray[np.float64]: ...
     def reset(self) -> None: ...
 
-def run(scene: Scene, user_potential: Optional[_UserPotential] = None) -> Dict[str, Any]:
-    """One run: ``{"data": (n, columns) array, "columns", "units", "summary"}``."""
+def run(
+    scene: Scene,
+    user_potential: Optional[_UserPotential] = None,
+    events: Optional[Sequence[Tuple[str, Callable[[float, Dict[str, float]], float], str, bool]]] = None,
+) -> Dict[str, Any]:
+    """One run: ``{"data": (n, columns) array, "columns", "units", "summary", "events"}``."""
 
 def run_batch(
     scenes: Sequence[Scene], user_potential: Optional[_UserPotential] = None, threads: Optional[int] = None

@@ -2,12 +2,56 @@
 
 from __future__ import annotations
 
+import os
 import re
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-__all__ = ["Solution", "BatchSolution"]
+from ._errors import InvalidInputError, OutputError
+
+__all__ = ["Solution", "BatchSolution", "EventRecords"]
+
+
+class EventRecords:
+    """The events located during a run, in time order.
+
+    ``name`` (list), ``index`` (the event's position: scene ``[[events]]``
+    first, then the ``events=`` of :func:`framedyn.solve`), ``t`` (located
+    times), ``rising``, ``terminal`` (bool arrays) and ``data`` (the record at
+    each event, the solution's columns, shape ``(k, columns)``).
+    ``times(name)`` gives the times of one event.
+    """
+
+    __slots__ = {
+        "name": "Event names, one per located event (list of str).",
+        "index": "Position of each event's definition: scene ``[[events]]`` first, then ``events=``.",
+        "t": "Located times, shape ``(k,)``.",
+        "rising": "Whether each crossing was rising (bool array).",
+        "terminal": "Whether each event stopped the run (bool array).",
+        "data": "The record at each event, the solution's columns, shape ``(k, columns)``.",
+    }
+
+    def __init__(self, raw: Optional[Mapping[str, Any]], ncols: int) -> None:
+        raw = raw or {}
+        self.name: List[str] = list(raw.get("name", []))
+        self.index: np.ndarray = np.asarray(raw.get("index", []), dtype=np.int64)
+        self.t: np.ndarray = np.asarray(raw.get("t", []), dtype=np.float64)
+        self.rising: np.ndarray = np.asarray(raw.get("rising", []), dtype=bool)
+        self.terminal: np.ndarray = np.asarray(raw.get("terminal", []), dtype=bool)
+        data = raw.get("data")
+        self.data: np.ndarray = np.asarray(data, dtype=np.float64) if data is not None else np.empty((0, ncols))
+
+    def times(self, name: str) -> np.ndarray:
+        """The located times of the event ``name``."""
+        return self.t[[i for i, n in enumerate(self.name) if n == name]]
+
+    def __len__(self) -> int:
+        return len(self.name)
+
+    def __repr__(self) -> str:
+        return f"EventRecords({len(self)} events)"
+
 
 _POS = re.compile(r"^x(\d+)$")
 _VEL = re.compile(r"^v(\d+)$")
@@ -41,9 +85,17 @@ class Solution:
     ``units`` describe them.
     """
 
-    __slots__ = ("data", "columns", "units", "stats", "_index", "error")
+    __slots__ = {
+        "data": "The ``(records, columns)`` array the core produced (no copy); every other array is a view into it.",
+        "columns": "Column names of ``data`` (list of str).",
+        "units": "Units of the columns: ``L``, ``T``, ``M`` products (list of str).",
+        "stats": "Run statistics: steps, rejected steps, vector-field evaluations, wall time, drifts, maximal defect, stop reason.",
+        "_index": "Column name → column index.",
+        "error": "For a failed member of a batch run with ``on_error=\"keep\"``: the exception, else None.",
+        "events": "The located events (:class:`EventRecords`).",
+    }
 
-    def __init__(self, data: np.ndarray, columns: Sequence[str], units: Sequence[str], stats: Mapping[str, Any]) -> None:
+    def __init__(self, data: np.ndarray, columns: Sequence[str], units: Sequence[str], stats: Mapping[str, Any], events: Optional[EventRecords] = None) -> None:
         self.data: np.ndarray = data
         self.columns: List[str] = list(columns)
         self.units: List[str] = list(units)
@@ -51,10 +103,12 @@ class Solution:
         self._index = {c: i for i, c in enumerate(self.columns)}
         #: For a failed member of a batch run with ``on_error="keep"``: the exception.
         self.error: Optional[BaseException] = None
+        #: The located events (:class:`EventRecords`).
+        self.events: EventRecords = events if events is not None else EventRecords(None, len(self.columns))
 
     @classmethod
     def _from_raw(cls, raw: Mapping[str, Any]) -> "Solution":
-        return cls(raw["data"], raw["columns"], raw["units"], raw["summary"])
+        return cls(raw["data"], raw["columns"], raw["units"], raw["summary"], EventRecords(raw.get("events"), len(raw["columns"])))
 
     # -- columns ----------------------------------------------------------------
 
@@ -153,11 +207,32 @@ class Solution:
         return f"Solution({len(self)} records, {len(self.columns)} columns, stop={self.stats.get('stop')!r})"
 
     def __reduce__(self) -> Any:
-        return (_rebuild, (self.data, self.columns, self.units, self.stats, self.error))
+        return (_rebuild, (self.data, self.columns, self.units, self.stats, self.error, self.events))
+
+    def save(self, path: Union[str, "os.PathLike[str]"], format: Optional[str] = None) -> None:
+        """Writes the records like ``framedyn run``: CSV with a header line
+        (``format="csv"``) or a numpy ``.npz`` archive with ``data``,
+        ``columns``, ``units`` (``format="npz"``); by default from the
+        extension of ``path`` (``.npz``, else CSV)."""
+        p = os.fspath(path)
+        fmt = format if format is not None else ("npz" if p.lower().endswith(".npz") else "csv")
+        if fmt not in ("csv", "npz"):
+            raise InvalidInputError(f"invalid `format` = {format!r}: allowed: 'csv', 'npz'")
+        try:
+            if fmt == "npz":
+                with open(p, "wb") as f:
+                    np.savez(f, data=self.data, columns=np.array(self.columns), units=np.array(self.units))
+            else:
+                with open(p, "w", encoding="utf-8") as f:
+                    f.write(",".join(self.columns) + "\n")
+                    for row in self.data:
+                        f.write(",".join(repr(float(v)) for v in row) + "\n")
+        except OSError as e:
+            raise OutputError(f"cannot write {p}: {e}") from e
 
 
-def _rebuild(data: np.ndarray, columns: List[str], units: List[str], stats: Dict[str, Any], error: Optional[BaseException]) -> Solution:
-    s = Solution(data, columns, units, stats)
+def _rebuild(data: np.ndarray, columns: List[str], units: List[str], stats: Dict[str, Any], error: Optional[BaseException], events: Optional[EventRecords] = None) -> Solution:
+    s = Solution(data, columns, units, stats, events)
     s.error = error
     return s
 

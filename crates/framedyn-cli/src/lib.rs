@@ -10,6 +10,12 @@
 //! `SCENE` is a TOML or JSON file, or the name of an embedded scene; without
 //! it `run` uses the default scene (a gyroscope on S² crossing the pole).
 //!
+//! A scene with `[[events]]` also writes its located events to
+//! `STEM.events.csv` beside the output (`traj.csv` or `traj.npz` →
+//! `traj.events.csv`): header `event,rising,terminal` then the record's
+//! columns, one line per event in time order. A terminal event ends the run
+//! normally (exit code 0) at the event's state.
+//!
 //! Exit codes: 0 success; 2 bad command line; 3 invalid scene; 4 integration
 //! failure (the output holds the part up to the last good state); 5 I/O
 //! error (no output file is left); 130 interrupted by Ctrl-C (the output
@@ -231,13 +237,22 @@ fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option
         sink.abort();
         return Err((EXIT_IO, format!("writing {}: {e} (no output written)", path.display())));
     }
+    let events = sink.take_events();
+    let event_columns = sink.column_names();
     if let Err(e) = sink.finish() {
         return Err((EXIT_IO, format!("writing {}: {e} (no output written)", path.display())));
+    }
+    let events_file = (!sim.events().is_empty()).then(|| output::events_path(&path));
+    if let Some(ep) = &events_file {
+        output::write_events(ep, &event_columns, &events).map_err(|e| (EXIT_IO, format!("writing {}: {e}", ep.display())))?;
     }
     if !quiet {
         println!("scene:           {origin}");
         println!("{summary}");
         println!("output:          {} ({} records, {})", path.display(), summary.records, if format == Format::Npz { "npz" } else { "csv" });
+        if let Some(ep) = &events_file {
+            println!("events:          {} ({} events)", ep.display(), events.len());
+        }
     }
     match (&summary.stop, err) {
         (_, Some(RunError::Integration(e))) => Err((

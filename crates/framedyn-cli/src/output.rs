@@ -11,7 +11,7 @@ use std::fs::{self, File};
 use std::io::{self, BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
-use framedyn::scenes::{Column, Format, RecordSink};
+use framedyn::scenes::{Column, EventHit, Format, RecordSink};
 
 /// A record sink writing a CSV or `.npz` file atomically.
 pub struct FileSink {
@@ -23,6 +23,7 @@ pub struct FileSink {
     columns: Vec<Column>,
     rows: u64,
     line: String,
+    events: Vec<EventHit>,
 }
 
 fn sibling(target: &Path, suffix: &str) -> PathBuf {
@@ -55,6 +56,7 @@ impl FileSink {
             columns: Vec::new(),
             rows: 0,
             line: String::new(),
+            events: Vec::new(),
         })
     }
 
@@ -99,7 +101,55 @@ impl FileSink {
     }
 }
 
+impl FileSink {
+    /// The events located so far (taken out of the sink).
+    pub fn take_events(&mut self) -> Vec<EventHit> {
+        std::mem::take(&mut self.events)
+    }
+
+    /// The record columns.
+    pub fn column_names(&self) -> Vec<String> {
+        self.columns.iter().map(|c| c.name.clone()).collect()
+    }
+}
+
+/// The events file of the output `target`: `NAME.events.csv` beside it
+/// (`traj.csv` → `traj.events.csv`, `traj.npz` → `traj.events.csv`).
+pub fn events_path(target: &Path) -> PathBuf {
+    let stem = target.file_stem().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "output".into());
+    target.with_file_name(format!("{stem}.events.csv"))
+}
+
+/// Writes the events as CSV (header `event,rising,terminal,` and the record
+/// columns; one line per located event, in time order), atomically.
+pub fn write_events(target: &Path, columns: &[String], events: &[EventHit]) -> io::Result<()> {
+    use std::fmt::Write as _;
+    let mut text = String::from("event,rising,terminal");
+    for c in columns {
+        text.push(',');
+        text.push_str(c);
+    }
+    text.push('\n');
+    for e in events {
+        let _ = write!(text, "{},{},{}", e.name, u8::from(e.rising), u8::from(e.terminal));
+        for v in &e.row {
+            let _ = write!(text, ",{v}");
+        }
+        text.push('\n');
+    }
+    let tmp = sibling(target, "tmp");
+    fs::write(&tmp, text)?;
+    fs::rename(&tmp, target).inspect_err(|_| {
+        let _ = fs::remove_file(&tmp);
+    })
+}
+
 impl RecordSink for FileSink {
+    fn event(&mut self, hit: &EventHit) -> io::Result<()> {
+        self.events.push(hit.clone());
+        Ok(())
+    }
+
     fn columns(&mut self, columns: &[Column]) -> io::Result<()> {
         self.columns = columns.to_vec();
         if self.format == Format::Csv {

@@ -351,3 +351,45 @@ proptest! {
         let _ = fs::remove_dir_all(&dir);
     }
 }
+
+/// `framedyn validate` refuses a method the model does not support (exit 3,
+/// naming `method.name`, the value and the allowed methods); a scene with
+/// events writes `STEM.events.csv` whose rows match the library's events.
+#[test]
+fn methods_and_events_files() {
+    let dir = tmpdir("events");
+    let text = EXAMPLES.iter().find(|(n, _)| *n == "s2-affine-elastic").unwrap().1;
+    let bad = text.replacen("name = \"rk4\"", "name = \"strang\"", 1);
+    assert_ne!(bad, text, "the example uses rk4");
+    fs::write(dir.join("bad.toml"), &bad).unwrap();
+    let o = framedyn(&["validate", "bad.toml"], &dir);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("method.name") && e.contains("strang") && e.contains("implicit_midpoint") && e.contains("line"), "{e}");
+
+    let scene = example("s2-gyroscope-splitting").unwrap();
+    let mut short = scene.clone();
+    short.time.t_end = 40.0;
+    fs::write(dir.join("split.toml"), short.to_toml_string()).unwrap();
+    let o = framedyn(&["run", "split.toml", "--output", "traj.npz", "--quiet"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let text = fs::read_to_string(dir.join("traj.events.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| {
+            let mut f = l.split(',');
+            assert_eq!(f.next(), Some("section"));
+            f.map(|v| v.parse::<f64>().unwrap()).collect()
+        })
+        .collect();
+    let (_, sink) = library_run(&short);
+    assert!(!sink.events.is_empty());
+    assert_eq!(rows.len(), sink.events.len());
+    assert_eq!(header[..3], ["event", "rising", "terminal"]);
+    for (r, e) in rows.iter().zip(&sink.events) {
+        assert_eq!(r[2..], e.row[..]);
+        assert_eq!((r[0], r[1]), (1.0, 0.0));
+    }
+    let _ = fs::remove_dir_all(&dir);
+}

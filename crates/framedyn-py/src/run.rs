@@ -6,7 +6,10 @@ use std::io;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
-use framedyn::scenes::{Column, Progress, RecordSink, RunError, RunSummary, Scene, SceneError, SceneStop, Simulation, UserPotentialFn};
+use framedyn::scenes::{
+    Column, EventDirection, EventFn, EventHit, Progress, RecordSink, RunError, RunSummary, Scene, SceneError, SceneEvent, SceneStop, Simulation,
+    UserPotentialFn,
+};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -21,6 +24,7 @@ struct FlatSink {
     columns: Vec<Column>,
     data: Vec<f64>,
     rows: usize,
+    events: Vec<EventHit>,
 }
 
 impl RecordSink for FlatSink {
@@ -31,6 +35,10 @@ impl RecordSink for FlatSink {
     fn record(&mut self, row: &[f64]) -> io::Result<()> {
         self.data.extend_from_slice(row);
         self.rows += 1;
+        Ok(())
+    }
+    fn event(&mut self, hit: &EventHit) -> io::Result<()> {
+        self.events.push(hit.clone());
         Ok(())
     }
 }
@@ -77,6 +85,73 @@ fn user_potential(py: Python<'_>, callable: Option<Py<PyAny>>) -> PyResult<Optio
     Ok(Some((f, slot)))
 }
 
+/// A user event from Python, checked: name, `g(t, state) -> float`,
+/// direction, terminal. `state` is a dict of every record column (all
+/// quantities) at `t`.
+struct PyEvent {
+    name: String,
+    callable: Arc<Py<PyAny>>,
+    direction: EventDirection,
+    terminal: bool,
+}
+
+/// Checks the user events `(name, callable, direction, terminal)`.
+fn check_events(py: Python<'_>, events: Option<Vec<(String, Py<PyAny>, String, bool)>>) -> PyResult<Vec<PyEvent>> {
+    let mut out = Vec::new();
+    for (i, (name, callable, direction, terminal)) in events.unwrap_or_default().into_iter().enumerate() {
+        if !callable.bind(py).is_callable() {
+            let tname = callable.bind(py).get_type().name().map(|n| n.to_string()).unwrap_or_default();
+            return Err(err(py, Kind::Invalid, format!("invalid `events[{i}]`: a {tname} is not callable; allowed: a callable f(t, state) -> float")));
+        }
+        let direction = match direction.as_str() {
+            "either" => EventDirection::Either,
+            "rising" => EventDirection::Rising,
+            "falling" => EventDirection::Falling,
+            other => return Err(err(py, Kind::Invalid, format!("invalid `events[{i}].direction` = {other:?}: allowed: 'rising', 'falling', 'either'"))),
+        };
+        if name.is_empty() {
+            return Err(err(py, Kind::Invalid, format!("invalid `events[{i}].name` = '': must be non-empty")));
+        }
+        out.push(PyEvent { name, callable: Arc::new(callable), direction, terminal });
+    }
+    Ok(out)
+}
+
+/// The user events as core events over the full record `names`; each call
+/// takes the GIL, and an exception is kept in `slot` (the event value is then
+/// NaN, which stops the run with an error).
+fn user_events(events: &[PyEvent], names: Vec<String>, slot: &ErrorSlot) -> Vec<SceneEvent> {
+    let names = Arc::new(names);
+    events
+        .iter()
+        .map(|e| {
+            let (callable, names, slot) = (e.callable.clone(), names.clone(), slot.clone());
+            let g: EventFn = Arc::new(move |t: f64, row: &[f64]| -> f64 {
+                if lock(&slot).is_some() {
+                    return f64::NAN;
+                }
+                Python::attach(|py| {
+                    let result = (|| -> PyResult<f64> {
+                        let d = PyDict::new(py);
+                        for (n, v) in names.iter().zip(row) {
+                            d.set_item(n, *v)?;
+                        }
+                        callable.call1(py, (t, d))?.extract::<f64>(py)
+                    })();
+                    match result {
+                        Ok(v) => v,
+                        Err(e) => {
+                            lock(&slot).get_or_insert(e);
+                            f64::NAN
+                        }
+                    }
+                })
+            });
+            SceneEvent { name: e.name.clone(), g, direction: e.direction, terminal: e.terminal }
+        })
+        .collect()
+}
+
 /// What one run produced.
 struct RunOutput {
     sink: FlatSink,
@@ -85,11 +160,23 @@ struct RunOutput {
 }
 
 /// Builds and runs `scene` (no GIL needed unless a user potential is called).
-fn run_scene(scene: &Scene, user: Option<UserPotentialFn>, cancel: &AtomicBool, progress: &mut dyn FnMut(&Progress)) -> Result<RunOutput, SceneError> {
+fn run_scene(
+    scene: &Scene,
+    user: Option<UserPotentialFn>,
+    events: Option<(&[PyEvent], &ErrorSlot)>,
+    cancel: &AtomicBool,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<RunOutput, SceneError> {
     let mut sim = match user {
         None => scene.build()?,
         Some(f) => scene.build_with_user_potential(f)?,
     };
+    if let Some((evs, slot)) = events {
+        let names = sim.event_columns().iter().map(|c| c.name.clone()).collect();
+        for e in user_events(evs, names, slot) {
+            sim.add_event(e);
+        }
+    }
     let mut sink = FlatSink::default();
     Ok(match sim.run(&mut sink, cancel, progress) {
         Ok(summary) => RunOutput { sink, summary, error: None },
@@ -103,6 +190,7 @@ fn stop_kind(stop: &SceneStop) -> &'static str {
         SceneStop::Cancelled => "cancelled",
         SceneStop::Failed(_) => "failed",
         SceneStop::OutputError(_) => "output_error",
+        SceneStop::Event(_) => "event",
     }
 }
 
@@ -115,12 +203,22 @@ fn to_py<'py>(py: Python<'py>, sink: FlatSink, summary: &RunSummary) -> PyResult
     d.set_item("data", data)?;
     d.set_item("columns", sink.columns.iter().map(|c| c.name.clone()).collect::<Vec<_>>())?;
     d.set_item("units", sink.columns.iter().map(|c| c.unit).collect::<Vec<_>>())?;
+    let ev = PyDict::new(py);
+    ev.set_item("name", sink.events.iter().map(|e| e.name.clone()).collect::<Vec<_>>())?;
+    ev.set_item("index", sink.events.iter().map(|e| e.index).collect::<Vec<_>>())?;
+    ev.set_item("t", PyArray1::from_vec(py, sink.events.iter().map(|e| e.t).collect()))?;
+    ev.set_item("rising", sink.events.iter().map(|e| e.rising).collect::<Vec<_>>())?;
+    ev.set_item("terminal", sink.events.iter().map(|e| e.terminal).collect::<Vec<_>>())?;
+    let rows: Vec<f64> = sink.events.iter().flat_map(|e| e.row.iter().copied()).collect();
+    ev.set_item("data", PyArray1::from_vec(py, rows).reshape([sink.events.len(), ncols])?)?;
+    d.set_item("events", ev)?;
     let s = PyDict::new(py);
     s.set_item("method", summary.method)?;
     s.set_item("steps", summary.steps)?;
     s.set_item("rejected", summary.rejected)?;
     s.set_item("rhs_evals", summary.rhs_evals)?;
     s.set_item("records", summary.records)?;
+    s.set_item("events", summary.events)?;
     s.set_item("wall_time", summary.wall_time.as_secs_f64())?;
     s.set_item("energy_initial", summary.energy_initial)?;
     s.set_item("energy_drift", summary.energy_drift)?;
@@ -169,11 +267,18 @@ fn finish<'py>(py: Python<'py>, out: Result<Result<RunOutput, SceneError>, Strin
 /// "summary"}`. Ctrl-C (SIGINT) is noticed within about 50 ms: the run stops
 /// and `KeyboardInterrupt` is raised.
 #[pyfunction]
-#[pyo3(signature = (scene, user_potential = None))]
-pub fn run<'py>(py: Python<'py>, scene: PyRef<'py, PyScene>, user_potential: Option<Py<PyAny>>) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (scene, user_potential = None, events = None))]
+pub fn run<'py>(
+    py: Python<'py>,
+    scene: PyRef<'py, PyScene>,
+    user_potential: Option<Py<PyAny>>,
+    events: Option<Vec<(String, Py<PyAny>, String, bool)>>,
+) -> PyResult<Bound<'py, PyDict>> {
     let user = self::user_potential(py, user_potential)?;
+    let events = check_events(py, events)?;
     let (f, slot) = match user {
         Some((f, s)) => (Some(f), Some(s)),
+        None if !events.is_empty() => (None, Some(Arc::new(Mutex::new(None)))),
         None => (None, None),
     };
     let scene = scene.inner.clone();
@@ -189,7 +294,8 @@ pub fn run<'py>(py: Python<'py>, scene: PyRef<'py, PyScene>, user_potential: Opt
                     }
                 }
             };
-            run_scene(&scene, f, &cancel, &mut progress)
+            let ev = slot.as_ref().filter(|_| !events.is_empty()).map(|s| (events.as_slice(), s));
+            run_scene(&scene, f, ev, &cancel, &mut progress)
         })
     });
     if let Some(e) = interrupt {
@@ -229,7 +335,7 @@ pub fn run_batch<'py>(
         let work = || {
             scenes
                 .par_iter()
-                .map(|s| guard(|| run_scene(s, f.clone(), &AtomicBool::new(false), &mut |_| {})))
+                .map(|s| guard(|| run_scene(s, f.clone(), None, &AtomicBool::new(false), &mut |_| {})))
                 .collect::<Vec<_>>()
         };
         match &pool {

@@ -9,12 +9,14 @@ use nalgebra::{SMatrix, SVector};
 
 use super::error::RunError;
 use super::spec::Quantity;
-use super::{Column, Progress, RecordSink, RunSummary, SceneStop};
+use super::{Column, EventDirection, EventHit, Progress, RecordSink, RunSummary, SceneEvent, SceneStop};
+use crate::method::NonFiniteSource;
 use crate::bundle::FrameBundle;
 use crate::dynamics::affine::{AffineBodyModel, InternalConstraint};
 use crate::dynamics::gyroscope2::Z_ROTATION;
 use crate::dynamics::{Gyroscope2Model, Gyroscope3Model, PointModel, System};
-use crate::method::{GroupNumerics, Method, Rkmk, StepRequest};
+use crate::manifold::{Hyperbolic2, Sphere2, Sphere3, Torus2};
+use crate::method::{Alg, GroupNumerics, ImplicitMidpoint, Method, MethodInfo, Rkmk, Splitting, StepFault, StepOutput, StepRequest};
 use crate::potential::Potential;
 use crate::solve::{self, Adaptive, Options, Problem, Save, SolveError};
 
@@ -28,6 +30,9 @@ const CHECK_EVERY: usize = 256;
 pub(crate) struct Sel([bool; 8]);
 
 impl Sel {
+    /// Every quantity.
+    pub(crate) const ALL: Sel = Sel([true; 8]);
+
     pub(crate) fn new(qs: &[Quantity]) -> Self {
         let mut s = [false; 8];
         for q in qs {
@@ -87,10 +92,72 @@ fn generators<const E: usize>() -> Vec<(String, SMatrix<f64, E, E>)> {
     }
 }
 
-/// What a model reports in a record, in the column order of the module docs.
+/// A splitting step, if the model has exact free flows.
+pub(crate) type SplitResult<S> = Option<Result<StepOutput<<S as System>::State>, StepFault>>;
+
+/// What a model reports in a record, in the column order of the module docs,
+/// and which model-specific methods it supports.
 pub(crate) trait Observe: System<State: GroupNumerics + Send> + Clone + Send + 'static {
     fn observe(&self, sel: Sel, t: f64, y: &Self::State, row: &mut Row<'_>);
+    /// One step of the splitting `m` (the model must be
+    /// [`Splittable`](crate::method::Splittable)); `None` if the model has no
+    /// exact free flow.
+    fn split_step(&self, m: &Splitting, t: f64, y: &Self::State, h: f64) -> SplitResult<Self>;
 }
+
+/// Bundles on which the point model is splittable (constant curvature).
+pub(crate) trait SplitPoint<const N: usize, const E: usize>: FrameBundle<N, E> + Sized {
+    fn split<P: Potential<N, E>>(m: &Splitting, sys: &PointModel<Self, P, N, E>, t: f64, y: &<PointModel<Self, P, N, E> as System>::State, h: f64) -> SplitResult<PointModel<Self, P, N, E>>
+    where
+        PointModel<Self, P, N, E>: System,
+        <PointModel<Self, P, N, E> as System>::State: GroupNumerics;
+}
+
+/// Bundles on which the 2-D gyroscope is splittable.
+pub(crate) trait SplitGyro2: FrameBundle<2, 3> + Sized {
+    fn split<P: Potential<2, 3>>(m: &Splitting, sys: &Gyroscope2Model<Self, P>, t: f64, y: &<Gyroscope2Model<Self, P> as System>::State, h: f64) -> SplitResult<Gyroscope2Model<Self, P>>
+    where
+        Gyroscope2Model<Self, P>: System,
+        <Gyroscope2Model<Self, P> as System>::State: GroupNumerics;
+}
+
+/// Bundles on which the 3-D gyroscope is splittable.
+pub(crate) trait SplitGyro3: FrameBundle<3, 4> + Sized {
+    fn split<P: Potential<3, 4>>(m: &Splitting, sys: &Gyroscope3Model<Self, P>, t: f64, y: &<Gyroscope3Model<Self, P> as System>::State, h: f64) -> SplitResult<Gyroscope3Model<Self, P>>
+    where
+        Gyroscope3Model<Self, P>: System,
+        <Gyroscope3Model<Self, P> as System>::State: GroupNumerics;
+}
+
+/// The splitting impls: `exact` bundles step with the method's exact free
+/// flows, `none` bundles (T², whose curvature varies) have none.
+macro_rules! split_impls {
+    ($tr:path, $n:literal, $e:literal, $model:ty; exact: $($b:ty),+; none: $($nb:ty),*) => {
+        $(impl $tr for $b {
+            fn split<P: Potential<$n, $e>>(m: &Splitting, sys: &$model, t: f64, y: &<$model as System>::State, h: f64) -> SplitResult<$model>
+            where
+                $model: System,
+                <$model as System>::State: GroupNumerics,
+            {
+                Some(Method::step(m, sys, t, y, h, StepRequest::plain()))
+            }
+        })+
+        $(impl $tr for $nb {
+            fn split<P: Potential<$n, $e>>(_: &Splitting, _: &$model, _: f64, _: &<$model as System>::State, _: f64) -> SplitResult<$model>
+            where
+                $model: System,
+                <$model as System>::State: GroupNumerics,
+            {
+                None
+            }
+        })*
+    };
+}
+
+split_impls!(SplitPoint<2, 3>, 2, 3, PointModel<Self, P, 2, 3>; exact: Sphere2, Hyperbolic2; none: Torus2);
+split_impls!(SplitPoint<3, 4>, 3, 4, PointModel<Self, P, 3, 4>; exact: Sphere3; none:);
+split_impls!(SplitGyro2, 2, 3, Gyroscope2Model<Self, P>; exact: Sphere2, Hyperbolic2; none: Torus2);
+split_impls!(SplitGyro3, 3, 4, Gyroscope3Model<Self, P>; exact: Sphere3; none:);
 
 #[allow(clippy::too_many_arguments)]
 fn observe_common<B: FrameBundle<N, E>, const N: usize, const E: usize>(
@@ -164,7 +231,7 @@ fn observe_tail<S: System, const E: usize>(
 
 impl<B, P, const N: usize, const E: usize> Observe for PointModel<B, P, N, E>
 where
-    B: FrameBundle<N, E> + 'static,
+    B: SplitPoint<N, E> + 'static,
     P: Potential<N, E> + Clone + 'static,
     PointModel<B, P, N, E>: System<State = crate::dynamics::PointState<B::Group, N>>,
     crate::dynamics::PointState<B::Group, N>: GroupNumerics + Send,
@@ -174,11 +241,14 @@ where
         observe_common::<B, N, E>(self.bundle(), sel, t, &x, &v, None, row, |_| {});
         observe_tail::<Self, E>(self, sel, y, row, |g| self.momentum_map(y, g).unwrap_or(f64::NAN));
     }
+    fn split_step(&self, m: &Splitting, t: f64, y: &Self::State, h: f64) -> SplitResult<Self> {
+        B::split(m, self, t, y, h)
+    }
 }
 
 impl<B, P> Observe for Gyroscope2Model<B, P>
 where
-    B: FrameBundle<2, 3> + 'static,
+    B: SplitGyro2 + 'static,
     P: Potential<2, 3> + Clone + 'static,
     <Gyroscope2Model<B, P> as System>::State: GroupNumerics + Send,
 {
@@ -196,11 +266,14 @@ where
         }
         observe_tail::<Self, 3>(self, sel, y, row, |g| self.momentum_map(y, g).unwrap_or(f64::NAN));
     }
+    fn split_step(&self, m: &Splitting, t: f64, y: &Self::State, h: f64) -> SplitResult<Self> {
+        B::split(m, self, t, y, h)
+    }
 }
 
 impl<B, P> Observe for Gyroscope3Model<B, P>
 where
-    B: FrameBundle<3, 4> + 'static,
+    B: SplitGyro3 + 'static,
     P: Potential<3, 4> + Clone + 'static,
     <Gyroscope3Model<B, P> as System>::State: GroupNumerics + Send,
 {
@@ -214,6 +287,9 @@ where
             }
         }
         observe_tail::<Self, 4>(self, sel, y, row, |g| self.momentum_map(y, g).unwrap_or(f64::NAN));
+    }
+    fn split_step(&self, m: &Splitting, t: f64, y: &Self::State, h: f64) -> SplitResult<Self> {
+        B::split(m, self, t, y, h)
     }
 }
 
@@ -244,6 +320,10 @@ where
         }
         observe_tail::<Self, E>(self, sel, y, row, |g| self.noether_charge(y, g).unwrap_or(f64::NAN));
     }
+    /// Affine bodies have no exact free flow.
+    fn split_step(&self, _: &Splitting, _: f64, _: &Self::State, _: f64) -> SplitResult<Self> {
+        None
+    }
 }
 
 /// The methods available in scenes (a closed set of types, selected by name).
@@ -254,20 +334,57 @@ pub(crate) enum MethodChoice {
     Kutta3(Rkmk<3>),
     Rk4(Rkmk<4>),
     Dopri5(Rkmk<7>),
+    Dop853(Rkmk<12>),
     Butcher6(Rkmk<7>),
+    /// A splitting method (only for models with exact free flows) and its name.
+    Split(Splitting, &'static str),
+    /// The implicit Lie midpoint rule (any model).
+    Implicit(ImplicitMidpoint),
 }
 
-macro_rules! with_method {
-    ($m:expr, $v:ident => $body:expr) => {
-        match $m {
-            MethodChoice::LieEuler($v) => $body,
-            MethodChoice::Heun($v) => $body,
-            MethodChoice::Kutta3($v) => $body,
-            MethodChoice::Rk4($v) => $body,
-            MethodChoice::Dopri5($v) => $body,
-            MethodChoice::Butcher6($v) => $body,
+/// A [`MethodChoice`] as one [`Method`] for any observed model: the
+/// type-level dispatch of the model-specific methods.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Chosen(pub MethodChoice);
+
+impl<S: Observe> Method<S> for Chosen {
+    fn info(&self) -> MethodInfo {
+        match &self.0 {
+            MethodChoice::LieEuler(m) => Method::<S>::info(m),
+            MethodChoice::Heun(m) => Method::<S>::info(m),
+            MethodChoice::Kutta3(m) => Method::<S>::info(m),
+            MethodChoice::Rk4(m) => Method::<S>::info(m),
+            MethodChoice::Dopri5(m) | MethodChoice::Butcher6(m) => Method::<S>::info(m),
+            MethodChoice::Dop853(m) => Method::<S>::info(m),
+            MethodChoice::Implicit(m) => Method::<S>::info(m),
+            MethodChoice::Split(m, name) => MethodInfo {
+                name,
+                order: m.order(),
+                embedded_order: None,
+                dense_order: m.order().min(3),
+                stages: m.kick_weights().len(),
+                fsal: false,
+                radius_limit: f64::INFINITY,
+            },
         }
-    };
+    }
+
+    fn step(&self, sys: &S, t: f64, y: &S::State, h: f64, req: StepRequest<Alg<S>>) -> Result<StepOutput<S::State>, StepFault> {
+        match &self.0 {
+            MethodChoice::LieEuler(m) => m.step(sys, t, y, h, req),
+            MethodChoice::Heun(m) => m.step(sys, t, y, h, req),
+            MethodChoice::Kutta3(m) => m.step(sys, t, y, h, req),
+            MethodChoice::Rk4(m) => m.step(sys, t, y, h, req),
+            MethodChoice::Dopri5(m) | MethodChoice::Butcher6(m) => m.step(sys, t, y, h, req),
+            MethodChoice::Dop853(m) => m.step(sys, t, y, h, req),
+            MethodChoice::Implicit(m) => m.step(sys, t, y, h, req),
+            // `Engine::new` refuses a splitting for a model without one, so
+            // `None` does not occur; it is reported, not hidden, if it does.
+            MethodChoice::Split(m, _) => sys
+                .split_step(m, t, y, h)
+                .unwrap_or(Err(StepFault::OutsideChart { reason: "no exact free flow for a splitting method on this model", t_eval: t })),
+        }
+    }
 }
 
 /// How a run samples its records.
@@ -293,6 +410,7 @@ pub(crate) struct Plan {
     pub sampling: Sampling,
     pub max_steps: u64,
     pub sel: Sel,
+    pub events: Vec<SceneEvent>,
 }
 
 /// The bookkeeping of a run: sink, cancel flag, progress, summary.
@@ -307,6 +425,11 @@ pub(crate) struct Ctx<'a> {
     /// Columns of the momentum maps in a record, and their first values.
     pub mm_idx: Vec<usize>,
     pub mm0: Vec<f64>,
+    /// Per event: last non-zero sign of `g`, and its last value.
+    pub ev_sign: Vec<f64>,
+    pub ev_g: Vec<f64>,
+    /// A full record (every quantity) for the event functions.
+    pub full: Vec<f64>,
 }
 
 impl Ctx<'_> {
@@ -366,6 +489,11 @@ pub(crate) struct Engine<S: Observe> {
 
 impl<S: Observe> Engine<S> {
     pub(crate) fn new(system: S, y0: S::State, span: (f64, f64), method: MethodChoice) -> Result<Self, SolveError> {
+        if let MethodChoice::Split(m, name) = &method {
+            if system.split_step(m, span.0, &y0, 0.0).is_none() {
+                return Err(SolveError::InvalidOptions { reason: format!("{name}: splitting needs exact free flows (S2, H2, S3; point or gyroscope)") });
+            }
+        }
         let problem = Problem::new(system, y0, span)?;
         Ok(Engine { t: span.0, y: *problem.y0(), problem, method })
     }
@@ -383,6 +511,146 @@ impl<S: Observe> Engine<S> {
         res?;
         ctx.note(sys.energy(y), sys.defect(y));
         ctx.last_recorded_t = Some(t);
+        Ok(())
+    }
+
+    /// `g_k(t, y)` of every event into `out`.
+    fn event_values(&self, plan: &Plan, ctx: &mut Ctx<'_>, t: f64, y: &S::State, out: &mut Vec<f64>) {
+        let mut full = std::mem::take(&mut ctx.full);
+        full.clear();
+        self.problem.system().observe(Sel::ALL, t, y, &mut Row { cols: None, vals: &mut full });
+        out.clear();
+        out.extend(plan.events.iter().map(|e| (e.g)(t, &full)));
+        ctx.full = full;
+    }
+
+    fn event_value(&self, plan: &Plan, ctx: &mut Ctx<'_>, k: usize, t: f64, y: &S::State) -> f64 {
+        let mut full = std::mem::take(&mut ctx.full);
+        full.clear();
+        self.problem.system().observe(Sel::ALL, t, y, &mut Row { cols: None, vals: &mut full });
+        let g = (plan.events[k].g)(t, &full);
+        ctx.full = full;
+        g
+    }
+
+    /// The signs of the events at the start of a run.
+    fn events_start(&self, plan: &Plan, ctx: &mut Ctx<'_>, t: f64, y: &S::State) -> Result<(), RunError> {
+        if plan.events.is_empty() {
+            return Ok(());
+        }
+        let mut g = Vec::new();
+        self.event_values(plan, ctx, t, y, &mut g);
+        if g.iter().any(|v| !v.is_finite()) {
+            return Err(RunError::Integration(SolveError::NonFinite { what: NonFiniteSource::Event, t_eval: t, t, h: 0.0 }));
+        }
+        ctx.ev_sign = g.iter().map(|v| if *v == 0.0 { 0.0 } else { v.signum() }).collect();
+        ctx.ev_g = g;
+        Ok(())
+    }
+
+    /// Checks the events over the accepted step `(t0, y(t0)) → (t1, y1)`;
+    /// `at(τ)` is the state at `τ` in between (the method's sub-step or dense
+    /// output). Reports the crossings in time order to the sink and returns
+    /// the first terminal one (its time, state and name).
+    fn events_on_step(
+        &self,
+        plan: &Plan,
+        ctx: &mut Ctx<'_>,
+        t0: f64,
+        t1: f64,
+        y1: &S::State,
+        at: &dyn Fn(f64) -> Option<S::State>,
+    ) -> Result<Option<(f64, S::State, String)>, RunError> {
+        if plan.events.is_empty() {
+            return Ok(None);
+        }
+        let h = t1 - t0;
+        let nonfinite = |t_eval: f64| RunError::Integration(SolveError::NonFinite { what: NonFiniteSource::Event, t_eval, t: t0, h });
+        let mut g1 = Vec::new();
+        self.event_values(plan, ctx, t1, y1, &mut g1);
+        let mut hits: Vec<(f64, usize, bool, S::State)> = Vec::new();
+        for (k, e) in plan.events.iter().enumerate() {
+            let (s0, g0, g) = (ctx.ev_sign[k], ctx.ev_g[k], g1[k]);
+            if !g.is_finite() {
+                return Err(nonfinite(t1));
+            }
+            let s1 = if g == 0.0 { 0.0 } else { g.signum() };
+            ctx.ev_g[k] = g;
+            if s0 == 0.0 {
+                ctx.ev_sign[k] = s1;
+                continue;
+            }
+            if s1 == s0 {
+                continue;
+            }
+            // A sign change (or a zero at the step's end).
+            ctx.ev_sign[k] = if s1 == 0.0 { -s0 } else { s1 };
+            let rising = s0 < 0.0;
+            let wanted = match e.direction {
+                EventDirection::Either => true,
+                EventDirection::Rising => rising,
+                EventDirection::Falling => !rising,
+            };
+            if !wanted || g0 == 0.0 {
+                // g0 = 0: this zero was reported at the end of the last step.
+                continue;
+            }
+            let (tr, yr) = if s1 == 0.0 {
+                (t1, *y1)
+            } else {
+                let mut bad = None;
+                let (tr, _) = {
+                    let mut f = |tau: f64| -> f64 {
+                        match at(tau) {
+                            Some(y) => {
+                                let v = self.event_value(plan, ctx, k, tau, &y);
+                                if !v.is_finite() {
+                                    bad = Some(tau);
+                                }
+                                v
+                            }
+                            None => {
+                                bad = Some(tau);
+                                f64::NAN
+                            }
+                        }
+                    };
+                    crate::solve::event::brent(&mut f, t0, t1, g0, g, 0.0)
+                };
+                if let Some(tb) = bad {
+                    return Err(nonfinite(tb));
+                }
+                match at(tr) {
+                    Some(y) => (tr, y),
+                    None => return Err(nonfinite(tr)),
+                }
+            };
+            hits.push((tr, k, rising, yr));
+        }
+        let dir = h.signum();
+        hits.sort_by(|a, b| (dir * a.0).total_cmp(&(dir * b.0)));
+        let mut stop = None;
+        for (tr, k, rising, yr) in hits {
+            let e = &plan.events[k];
+            let mut row = Vec::new();
+            self.problem.system().observe(plan.sel, tr, &yr, &mut Row { cols: None, vals: &mut row });
+            ctx.sink.event(&EventHit { index: k, name: e.name.clone(), t: tr, row, rising, terminal: e.terminal })?;
+            ctx.summary.events += 1;
+            if e.terminal {
+                stop = Some((tr, yr, e.name.clone()));
+                break;
+            }
+        }
+        Ok(stop)
+    }
+
+    /// Ends a run at a terminal event.
+    fn stop_at_event(&mut self, plan: &Plan, ctx: &mut Ctx<'_>, hit: (f64, S::State, String)) -> Result<(), RunError> {
+        let (t, y, name) = hit;
+        self.t = t;
+        self.y = y;
+        self.record(plan, ctx, t, &y)?;
+        ctx.summary.stop = SceneStop::Event(name);
         Ok(())
     }
 
@@ -413,6 +681,7 @@ impl<S: Observe> Engine<S> {
         if every > 0 || record_due(t, &mut k) {
             self.record(plan, ctx, t, &y)?;
         }
+        self.events_start(plan, ctx, t, &y)?;
         let mut i = 0u64;
         let mut since_check = 0usize;
         while i < n {
@@ -429,6 +698,14 @@ impl<S: Observe> Engine<S> {
             };
             ctx.summary.rhs_evals += out.cost.rhs as u64;
             ctx.summary.steps += 1;
+            if !plan.events.is_empty() {
+                let (tp, yp) = (t, y);
+                let sys = self.problem.system();
+                let at = |tau: f64| m.step(sys, tp, &yp, tau - tp, StepRequest::plain()).ok().map(|o| o.y);
+                if let Some(hit) = self.events_on_step(plan, ctx, tp, target, &out.y, &at)? {
+                    return self.stop_at_event(plan, ctx, hit);
+                }
+            }
             t = target;
             y = out.y;
             if target == grid {
@@ -462,7 +739,7 @@ impl<S: Observe> Engine<S> {
         Ok(())
     }
 
-    fn run_adaptive(&mut self, m: &Rkmk<7>, rtol: f64, atol: f64, plan: &Plan, ctx: &mut Ctx<'_>) -> Result<(), RunError> {
+    fn run_adaptive<const ST: usize>(&mut self, m: &Rkmk<ST>, rtol: f64, atol: f64, plan: &Plan, ctx: &mut Ctx<'_>) -> Result<(), RunError> {
         let t_end = plan.t_end;
         let dir = (t_end - plan.t0).signum();
         let (every, times): (u64, &[f64]) = match &plan.sampling {
@@ -479,6 +756,9 @@ impl<S: Observe> Engine<S> {
             let y = self.y;
             self.record(plan, ctx, self.t, &y)?;
         }
+        let y = self.y;
+        self.events_start(plan, ctx, self.t, &y)?;
+        let with_events = !plan.events.is_empty();
         let mut h0: Option<f64> = None;
         let mut step_index = 0u64;
         loop {
@@ -494,7 +774,7 @@ impl<S: Observe> Engine<S> {
             let problem = self.problem.clone().with_span((self.t, t_end)).and_then(|p| p.with_y0(self.y)).map_err(RunError::Integration)?;
             let mut ad = Adaptive::new(rtol, atol);
             ad.h0 = h0;
-            let opts = Options::adaptive_with(ad).max_steps(chunk).save(Save::Steps).dense(!times.is_empty());
+            let opts = Options::adaptive_with(ad).max_steps(chunk).save(Save::Steps).dense(!times.is_empty() || with_events);
             let (sol, err) = match solve::solve(&problem, m, &opts) {
                 Ok(sol) => (sol, None),
                 Err(f) => (*f.solution, Some(f.error)),
@@ -509,19 +789,30 @@ impl<S: Observe> Engine<S> {
             }
             let (t_last, y_last) = sol.last();
             let y_last = *y_last;
-            // Records at requested times inside this chunk, from the dense output.
-            while k < times.len() && dir * (times[k] - t_last) <= 0.0 {
-                if let Some(yk) = sol.sample(times[k]) {
-                    self.record(plan, ctx, times[k], &yk)?;
-                }
-                k += 1;
-            }
             for j in 1..ts.len() {
                 if ts[j] == ts[j - 1] {
                     continue;
                 }
+                let hit = if with_events {
+                    let at = |tau: f64| sol.sample(tau);
+                    self.events_on_step(plan, ctx, ts[j - 1], ts[j], &ys[j], &at)?
+                } else {
+                    None
+                };
+                // Records at requested times inside this step (up to a
+                // terminal event), from the dense output.
+                let t_lim = hit.as_ref().map_or(ts[j], |h| h.0);
+                while k < times.len() && dir * (times[k] - t_lim) <= 0.0 {
+                    if let Some(yk) = sol.sample(times[k]) {
+                        self.record(plan, ctx, times[k], &yk)?;
+                    }
+                    k += 1;
+                }
                 step_index += 1;
                 ctx.summary.steps += 1;
+                if let Some(hit) = hit {
+                    return self.stop_at_event(plan, ctx, hit);
+                }
                 if every > 0 && (step_index % every == 0) {
                     self.record(plan, ctx, ts[j], &ys[j])?;
                 }
@@ -578,7 +869,7 @@ impl<S: Observe> DynEngine for Engine<S> {
             return Err(SolveError::InvalidParameter { field: "h", value: h, allowed: "finite and ≠ 0" });
         }
         let sys = self.problem.system();
-        let out = with_method!(&self.method, m => m.step(sys, self.t, &self.y, h, StepRequest::plain()))
+        let out = Chosen(self.method).step(sys, self.t, &self.y, h, StepRequest::plain())
             .map_err(|f| solve::fault_error(f, self.t, h))?;
         self.t += h;
         self.y = out.y;
@@ -591,18 +882,19 @@ impl<S: Observe> DynEngine for Engine<S> {
     }
 
     fn method_name(&self) -> &'static str {
-        with_method!(&self.method, m => <_ as Method<S>>::info(m).name)
+        Method::<S>::info(&Chosen(self.method)).name
     }
 
     fn run(&mut self, plan: &Plan, ctx: &mut Ctx<'_>) -> Result<(), RunError> {
         self.reset();
         let method = self.method;
         let result = match plan.stepping {
-            Stepping::Fixed(h) => with_method!(&method, m => self.run_fixed(m, h, plan, ctx)),
+            Stepping::Fixed(h) => self.run_fixed(&Chosen(method), h, plan, ctx),
             Stepping::Adaptive { rtol, atol } => match &method {
                 MethodChoice::Dopri5(m) => self.run_adaptive(m, rtol, atol, plan, ctx),
+                MethodChoice::Dop853(m) => self.run_adaptive(m, rtol, atol, plan, ctx),
                 _ => Err(RunError::Integration(SolveError::InvalidOptions {
-                    reason: "adaptive stepping needs an embedded pair (dopri5)".into(),
+                    reason: "adaptive stepping needs an embedded pair (dopri5, dop853)".into(),
                 })),
             },
         };

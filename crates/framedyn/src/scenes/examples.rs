@@ -31,6 +31,7 @@ examples!(
     "s2-point-kepler",
     "s2-point-oscillator",
     "s2-point-sum",
+    "s2-gyroscope-splitting",
     "s2-weyl-separable",
     "s3-affine-neo-hookean",
     "s3-dilatation",

@@ -50,10 +50,45 @@
 //! `_dot` rates, or `position`/`velocity` arrays in the embedding; `alpha`,
 //! `omega`, `spin`, `orientation`, `frame`, `rho`, `rho_dot` for the body),
 //! `[method]` (`name` from [`METHOD_NAMES`]; `h` for fixed steps, or `rtol`,
-//! `atol` with `dopri5`; `max_steps`), `[time]` (`t0`, `t_end`), `[output]`
+//! `atol` with `dopri5`; `max_steps`; `newton_tol`, `newton_max_iter` with
+//! `implicit_midpoint`), `[time]` (`t0`, `t_end`), `[output]`
 //! (`every`, `times` or `samples`; `quantities`; `format` = `csv`/`npz`;
-//! `path`). The embedded examples ([`EXAMPLES`]) cover every manifold × body
-//! and every potential family.
+//! `path`), `[[events]]` (see [`EventSpec`]). The embedded examples
+//! ([`EXAMPLES`]) cover every manifold × body and every potential family.
+//!
+//! # Methods
+//!
+//! | `name` | method | models |
+//! |---|---|---|
+//! | `lie_euler`, `heun`, `kutta3`, `rk4`, `butcher6` | RKMK of order 1, 2, 3, 4, 6 ([`Rkmk`]) | all |
+//! | `dopri5` | RKMK Dormand–Prince 5(4): fixed `h`, or adaptive with `rtol`/`atol` (the tolerance bounds the local error per step; the global error can exceed it by the flow's amplification, 14–117× on the S² and T² gyroscope references) | all |
+//! | `dop853` | RKMK Dormand–Prince 8(5,3) (Hairer's DOP853): fixed `h`, or adaptive with `rtol`/`atol` — global error ≤ 8.1 × tol on every reference trajectory (`tests/suite/integrators_dop853.rs`); use it when tol should bound the final error | all |
+//! | `strang`, `yoshida4`, `suzuki4`, `blanes_moan4`, `yoshida6`, `blanes_moan6` | symplectic splittings with exact free flows ([`Splitting`]): bounded energy error, momentum maps to round-off | points and gyroscopes on S², H² (both signatures), S³ |
+//! | `implicit_midpoint` | the symmetric implicit Lie midpoint rule ([`ImplicitMidpoint`]), Newton options `newton_tol` (default 1e-14), `newton_max_iter` (30) | all |
+//!
+//! A method a model does not support is refused by [`Scene::validate`]
+//! (`framedyn validate`) with an error naming `method.name`, the value and
+//! the methods allowed for that manifold × body ([`Scene::allowed_methods`]).
+//! The coordinate baselines ([`baseline`](crate::method::baseline)) are not
+//! scene methods (their state is the chart, not the bundle): use them from
+//! Rust.
+//!
+//! # Events
+//!
+//! Each `[[events]]` entry is a built-in event function `g` of the record:
+//! `kind = "plane"` (`normal·x − offset`, embedding position: Poincaré
+//! sections), `"distance"` (`|x − point| − distance`, Euclidean in the
+//! embedding: pole passages), `"column"` (`column − value` for any record
+//! column: the paper's coordinates, `energy`, …), with `direction` =
+//! `rising`/`falling`/`either` and `terminal`. Crossings are located by
+//! Brent's method on the method's own continuous extension — a sub-step of
+//! the method from the start of the step (fixed steps), or the dense output
+//! of adaptive `dopri5` — so the time is as accurate as the trajectory
+//! (round-off on exact flows; tested on a geodesic to 1e-10 in
+//! `tests/suite/scenes.rs`). They arrive at [`RecordSink::event`]
+//! ([`MemorySink::events`]; the CLI writes `STEM.events.csv`); a terminal
+//! event ends the run with [`SceneStop::Event`] at the event's state. Rust
+//! and Python users add their own functions with [`Simulation::add_event`].
 //!
 //! # Columns and units
 //!
@@ -100,7 +135,7 @@ use crate::dynamics::point::{bundle_element_at, tangent_components};
 use crate::dynamics::{Gyroscope2Model, Gyroscope2State, Gyroscope3Model, PointModel, PointState, System};
 use crate::lie::{LieGroup, So2, So3};
 use crate::manifold::{Hyperbolic2, Sphere2, Sphere3, Torus2};
-use crate::method::Rkmk;
+use crate::method::{ImplicitMidpoint, Rkmk, Splitting};
 use crate::potential::{
     Central, Centre, CosineFamily, Elastic, InvariantPotential, Kepler, NeoHookean, Oscillator, Separable,
     StVenantKirchhoff, TorusAngle,
@@ -108,8 +143,31 @@ use crate::potential::{
 use crate::solve::SolveError;
 use engine::{DynEngine, MethodChoice, Plan, Sampling, Sel, Stepping};
 
-/// The method names accepted in `[method] name`.
-pub const METHOD_NAMES: &[&str] = &["lie_euler", "heun", "kutta3", "rk4", "dopri5", "butcher6"];
+/// The method names accepted in `[method] name`: the RKMK family (any
+/// model), the splittings of [`SPLITTING_NAMES`] (points and gyroscopes on
+/// S², H², S³ only: they need exact free flows) and `implicit_midpoint` (any
+/// model; Newton options `newton_tol`, `newton_max_iter`).
+/// [`Scene::allowed_methods`] lists those of a manifold × body.
+pub const METHOD_NAMES: &[&str] = &[
+    "lie_euler",
+    "heun",
+    "kutta3",
+    "rk4",
+    "dopri5",
+    "dop853",
+    "butcher6",
+    "strang",
+    "yoshida4",
+    "suzuki4",
+    "blanes_moan4",
+    "yoshida6",
+    "blanes_moan6",
+    "implicit_midpoint",
+];
+
+/// The symplectic splittings (exact free flows: points and gyroscopes on S²,
+/// H² — both signatures — and S³; see [`Splitting`]).
+pub const SPLITTING_NAMES: &[&str] = &["strang", "yoshida4", "suzuki4", "blanes_moan4", "yoshida6", "blanes_moan6"];
 
 /// Default limit on accepted steps of a scene run.
 pub const DEFAULT_SCENE_MAX_STEPS: u64 = 1_000_000_000;
@@ -129,6 +187,56 @@ pub trait RecordSink {
     fn columns(&mut self, columns: &[Column]) -> io::Result<()>;
     /// One record: one value per column.
     fn record(&mut self, row: &[f64]) -> io::Result<()>;
+    /// A located event (default: ignored).
+    fn event(&mut self, hit: &EventHit) -> io::Result<()> {
+        let _ = hit;
+        Ok(())
+    }
+}
+
+/// An event function of a record: `g(t, row)`, `row` holding every column
+/// of [`Simulation::event_columns`] (all quantities) at time `t`.
+pub type EventFn = Arc<dyn Fn(f64, &[f64]) -> f64 + Send + Sync>;
+
+/// An event of a run: the crossings of `g = 0` in `direction` are located
+/// on the method's own continuous extension (a sub-step of the method from
+/// the start of the step, or the dense output of `dopri5`) by Brent's method
+/// to round-off in time, reported to the sink, and a `terminal` one stops the
+/// run at the first. Two crossings within one step cancel and are missed
+/// (limit `h`); a zero at `t₀` is not reported.
+#[derive(Clone)]
+pub struct SceneEvent {
+    /// Name in the output.
+    pub name: String,
+    /// The event function.
+    pub g: EventFn,
+    /// Which crossings are reported.
+    pub direction: EventDirection,
+    /// Stop at the first reported crossing.
+    pub terminal: bool,
+}
+
+impl fmt::Debug for SceneEvent {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("SceneEvent").field("name", &self.name).field("direction", &self.direction).field("terminal", &self.terminal).finish_non_exhaustive()
+    }
+}
+
+/// A located event.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EventHit {
+    /// Index of the event (scene events first, then [`Simulation::add_event`] ones).
+    pub index: usize,
+    /// Its name.
+    pub name: String,
+    /// The located time.
+    pub t: f64,
+    /// The record at `t` (the run's columns, [`Simulation::columns`]).
+    pub row: Vec<f64>,
+    /// True if `g` was rising through zero.
+    pub rising: bool,
+    /// True if the event stopped the run.
+    pub terminal: bool,
 }
 
 /// A sink that keeps everything in memory.
@@ -138,6 +246,8 @@ pub struct MemorySink {
     pub columns: Vec<Column>,
     /// The records.
     pub rows: Vec<Vec<f64>>,
+    /// The located events.
+    pub events: Vec<EventHit>,
 }
 
 impl MemorySink {
@@ -155,6 +265,10 @@ impl RecordSink for MemorySink {
     }
     fn record(&mut self, row: &[f64]) -> io::Result<()> {
         self.rows.push(row.to_vec());
+        Ok(())
+    }
+    fn event(&mut self, hit: &EventHit) -> io::Result<()> {
+        self.events.push(hit.clone());
         Ok(())
     }
 }
@@ -185,6 +299,8 @@ pub enum SceneStop {
     Failed(SolveError),
     /// Writing a record failed.
     OutputError(String),
+    /// A terminal event (its name) stopped the run; its state is the last record.
+    Event(String),
 }
 
 impl fmt::Display for SceneStop {
@@ -194,6 +310,7 @@ impl fmt::Display for SceneStop {
             SceneStop::Cancelled => f.write_str("cancelled (interrupted); output holds the part computed so far"),
             SceneStop::Failed(e) => write!(f, "integration failed: {e}; output holds the part up to the last good state"),
             SceneStop::OutputError(e) => write!(f, "output error: {e}"),
+            SceneStop::Event(name) => write!(f, "stopped by the terminal event `{name}`"),
         }
     }
 }
@@ -211,6 +328,8 @@ pub struct RunSummary {
     pub rhs_evals: u64,
     /// Records written.
     pub records: u64,
+    /// Events located.
+    pub events: u64,
     /// Wall-clock time of the run.
     pub wall_time: Duration,
     /// Energy of the first record.
@@ -237,6 +356,7 @@ impl RunSummary {
             rejected: 0,
             rhs_evals: 0,
             records: 0,
+            events: 0,
             wall_time: Duration::ZERO,
             energy_initial: f64::NAN,
             energy_drift: 0.0,
@@ -260,6 +380,7 @@ impl fmt::Display for RunSummary {
         writeln!(f, "t reached:       {}", self.t_reached)?;
         writeln!(f, "steps:           {} accepted, {} rejected ({} vector-field evaluations)", self.steps, self.rejected, self.rhs_evals)?;
         writeln!(f, "records:         {}", self.records)?;
+        writeln!(f, "events:          {}", self.events)?;
         writeln!(f, "wall time:       {:.3} s", self.wall_time.as_secs_f64())?;
         writeln!(f, "energy:          E0 = {:.12e}, max |E - E0| = {:.3e} (relative {:.3e})", self.energy_initial, self.energy_drift, self.relative_energy_drift())?;
         writeln!(f, "momentum maps:   max |J - J0| = {:.3e}", self.momentum_map_drift)?;
@@ -319,6 +440,10 @@ pub struct Scene {
     /// `[output]`.
     #[serde(default)]
     pub output: OutputSpec,
+    /// `[[events]]`: crossings located and reported during the run (see
+    /// [`EventSpec`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub events: Vec<EventSpec>,
     #[serde(skip)]
     source: Option<Source>,
 }
@@ -337,6 +462,7 @@ impl Scene {
             method: MethodSpec::default(),
             time,
             output: OutputSpec::default(),
+            events: Vec::new(),
             source: None,
         }
     }
@@ -401,6 +527,15 @@ impl Scene {
     /// The scene as JSON.
     pub fn to_json_string(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+    }
+
+    /// The method names available for this scene's manifold × body (a
+    /// subset of [`METHOD_NAMES`]): the splittings of [`SPLITTING_NAMES`]
+    /// only for points and gyroscopes on S², H², S³.
+    pub fn allowed_methods(&self) -> Vec<&'static str> {
+        let split = matches!(self.manifold.kind, ManifoldKind::S2 | ManifoldKind::H2 | ManifoldKind::S3)
+            && matches!(self.body.kind, BodyKind::Point | BodyKind::Gyroscope);
+        METHOD_NAMES.iter().copied().filter(|n| split || !SPLITTING_NAMES.contains(n)).collect()
     }
 
     /// Checks everything [`Self::build`] checks, without running.
@@ -475,7 +610,26 @@ impl Scene {
             "kutta3" => MethodChoice::Kutta3(Rkmk::kutta3()),
             "rk4" => MethodChoice::Rk4(Rkmk::rk4()),
             "dopri5" => MethodChoice::Dopri5(Rkmk::dopri5()),
+            "dop853" => MethodChoice::Dop853(Rkmk::dop853()),
             "butcher6" => MethodChoice::Butcher6(Rkmk::butcher6()),
+            "strang" => MethodChoice::Split(Splitting::strang(), "Strang splitting"),
+            "yoshida4" => MethodChoice::Split(Splitting::yoshida4(), "Yoshida 4 splitting"),
+            "suzuki4" => MethodChoice::Split(Splitting::suzuki4(), "Suzuki 4 splitting"),
+            "blanes_moan4" => MethodChoice::Split(Splitting::blanes_moan4(), "Blanes-Moan 4 splitting"),
+            "yoshida6" => MethodChoice::Split(Splitting::yoshida6(), "Yoshida 6 splitting"),
+            "blanes_moan6" => MethodChoice::Split(Splitting::blanes_moan6(), "Blanes-Moan 6 splitting"),
+            "implicit_midpoint" => {
+                let tol = m.newton_tol.unwrap_or(1e-14);
+                if !(tol.is_finite() && (1e-16..=1e-2).contains(&tol)) {
+                    return Err(SceneError::invalid("method.newton_tol", tol, "must be in [1e-16, 1e-2]"));
+                }
+                let it = m.newton_max_iter.unwrap_or(30);
+                if !(1..=1000).contains(&it) {
+                    return Err(SceneError::invalid("method.newton_max_iter", it, "must be in 1 ..= 1000"));
+                }
+                let im = ImplicitMidpoint::new().with_newton(tol, it).map_err(|e| SceneError::invalid("method.newton_tol", tol, e.to_string()))?;
+                MethodChoice::Implicit(im)
+            }
             other => {
                 return Err(SceneError::invalid(
                     "method.name",
@@ -484,13 +638,30 @@ impl Scene {
                 ))
             }
         };
-        let adaptive = m.rtol.is_some() || m.atol.is_some() || (m.h.is_none() && m.name == "dopri5");
+        if m.name != "implicit_midpoint" && (m.newton_tol.is_some() || m.newton_max_iter.is_some()) {
+            let f = if m.newton_tol.is_some() { "method.newton_tol" } else { "method.newton_max_iter" };
+            return Err(SceneError::invalid(f, "(given)", format!("Newton options are for name = \"implicit_midpoint\", not \"{}\"", m.name)));
+        }
+        let allowed = self.allowed_methods();
+        if !allowed.contains(&m.name.as_str()) {
+            return Err(SceneError::invalid(
+                "method.name",
+                format!("\"{}\"", m.name),
+                format!(
+                    "not available for a {} on {:?} (splittings need exact free flows: points and gyroscopes on S2, H2, S3); allowed here: {}",
+                    kind_body(self.body.kind),
+                    self.manifold.kind,
+                    allowed.join(", ")
+                ),
+            ));
+        }
+        let adaptive = m.rtol.is_some() || m.atol.is_some() || (m.h.is_none() && (m.name == "dopri5" || m.name == "dop853"));
         let stepping = if adaptive {
             if m.h.is_some() {
                 return Err(SceneError::invalid("method.h", m.h.unwrap_or(f64::NAN), "give either h (fixed steps) or rtol/atol (adaptive), not both"));
             }
-            if m.name != "dopri5" {
-                return Err(SceneError::invalid("method.rtol", m.rtol.or(m.atol).unwrap_or(f64::NAN), "adaptive stepping (rtol/atol) needs name = \"dopri5\""));
+            if m.name != "dopri5" && m.name != "dop853" {
+                return Err(SceneError::invalid("method.rtol", m.rtol.or(m.atol).unwrap_or(f64::NAN), "adaptive stepping (rtol/atol) needs name = \"dopri5\" or \"dop853\""));
             }
             let rtol = m.rtol.unwrap_or(1e-8);
             let atol = m.atol.unwrap_or(1e-10);
@@ -552,7 +723,7 @@ impl Scene {
                 return Err(SceneError::invalid("output.path", "\"\"", "must be a non-empty path"));
             }
         }
-        Ok((Plan { t0: t.t0, t_end: t.t_end, stepping, sampling, max_steps, sel: Sel::new(&quantities) }, method))
+        Ok((Plan { t0: t.t0, t_end: t.t_end, stepping, sampling, max_steps, sel: Sel::new(&quantities), events: Vec::new() }, method))
     }
 
     fn build_inner(&self, user: Option<UserPotentialFn>) -> Result<Simulation, SceneError> {
@@ -599,7 +770,12 @@ impl Scene {
             }
         };
         let columns = engine.columns(plan.sel);
-        Ok(Simulation { engine, plan, columns, name: self.name.clone().unwrap_or_default() })
+        let event_columns = engine.columns(Sel::new(&Quantity::ALL));
+        let mut plan = plan;
+        for (i, e) in self.events.iter().enumerate() {
+            plan.events.push(compile_event(e, i, &event_columns)?);
+        }
+        Ok(Simulation { engine, plan, columns, event_columns, name: self.name.clone().unwrap_or_default() })
     }
 
     // -- potentials -------------------------------------------------------------
@@ -1190,11 +1366,90 @@ impl<B: FrameBundle<N, E>, const N: usize, const E: usize> Init<B, N, E> {
     }
 }
 
+/// The event function of `[[events]]` entry `i` over the full record.
+fn compile_event(e: &EventSpec, i: usize, cols: &[Column]) -> Result<SceneEvent, SceneError> {
+    let path = |f: &str| format!("events[{i}].{f}");
+    let kind = match e.kind {
+        EventKind::Plane => "plane",
+        EventKind::Distance => "distance",
+        EventKind::Column => "column",
+    };
+    let used: &[&str] = match e.kind {
+        EventKind::Plane => &["normal", "offset"],
+        EventKind::Distance => &["point", "distance"],
+        EventKind::Column => &["column", "value"],
+    };
+    for (f, given) in [
+        ("normal", e.normal.is_some()),
+        ("offset", e.offset.is_some()),
+        ("point", e.point.is_some()),
+        ("distance", e.distance.is_some()),
+        ("column", e.column.is_some()),
+        ("value", e.value.is_some()),
+    ] {
+        if given && !used.contains(&f) {
+            return Err(SceneError::invalid(path(f), "(given)", format!("kind = \"{kind}\" takes only: {}", used.join(", "))));
+        }
+    }
+    let xs: Vec<usize> = cols.iter().enumerate().filter(|(_, c)| c.name.len() == 2 && c.name.starts_with('x')).map(|(j, _)| j).collect();
+    let dim = xs.len();
+    let vector = |v: &Option<Vec<f64>>, f: &str| -> Result<Vec<f64>, SceneError> {
+        let v = v.as_ref().ok_or_else(|| SceneError::invalid(path(f), "(missing)", format!("required for kind = \"{kind}\": {dim} embedding components")))?;
+        if v.len() != dim {
+            return Err(SceneError::invalid(path(f), format!("an array of {} numbers", v.len()), format!("must have exactly {dim} numbers (embedding components)")));
+        }
+        if let Some(j) = v.iter().position(|x| !x.is_finite()) {
+            return Err(SceneError::invalid(format!("{}[{j}]", path(f)), v[j], "must be finite"));
+        }
+        Ok(v.clone())
+    };
+    let number = |v: Option<f64>, f: &str, default: Option<f64>| -> Result<f64, SceneError> {
+        let x = v.or(default).ok_or_else(|| SceneError::invalid(path(f), "(missing)", format!("required for kind = \"{kind}\"")))?;
+        if !x.is_finite() {
+            return Err(SceneError::invalid(path(f), x, "must be finite"));
+        }
+        Ok(x)
+    };
+    let g: EventFn = match e.kind {
+        EventKind::Plane => {
+            let n = vector(&e.normal, "normal")?;
+            if n.iter().all(|x| *x == 0.0) {
+                return Err(SceneError::invalid(path("normal"), "[0, …]", "must be a non-zero vector"));
+            }
+            let c = number(e.offset, "offset", Some(0.0))?;
+            Arc::new(move |_t, row: &[f64]| xs.iter().zip(&n).map(|(&j, a)| a * row[j]).sum::<f64>() - c)
+        }
+        EventKind::Distance => {
+            let p = vector(&e.point, "point")?;
+            let d = number(e.distance, "distance", None)?;
+            if d < 0.0 {
+                return Err(SceneError::invalid(path("distance"), d, "must be ≥ 0"));
+            }
+            Arc::new(move |_t, row: &[f64]| xs.iter().zip(&p).map(|(&j, a)| (row[j] - a).powi(2)).sum::<f64>().sqrt() - d)
+        }
+        EventKind::Column => {
+            let name = e.column.as_deref().ok_or_else(|| SceneError::invalid(path("column"), "(missing)", "required for kind = \"column\": a record column"))?;
+            let j = cols.iter().position(|c| c.name == name).ok_or_else(|| {
+                SceneError::invalid(path("column"), format!("\"{name}\""), format!("not a column of this scene; allowed: {}", cols.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(", ")))
+            })?;
+            let v = number(e.value, "value", None)?;
+            Arc::new(move |_t, row: &[f64]| row[j] - v)
+        }
+    };
+    if let Some(n) = &e.name {
+        if n.is_empty() || n.contains([',', '\n', '"']) {
+            return Err(SceneError::invalid(path("name"), format!("{n:?}"), "must be non-empty, without commas, quotes or newlines"));
+        }
+    }
+    Ok(SceneEvent { name: e.name.clone().unwrap_or_else(|| format!("event{i}")), g, direction: e.direction, terminal: e.terminal })
+}
+
 /// A built scene: run it to a sink, or step it.
 pub struct Simulation {
     engine: Box<dyn DynEngine>,
     plan: Plan,
     columns: Vec<Column>,
+    event_columns: Vec<Column>,
     name: String,
 }
 
@@ -1213,6 +1468,22 @@ impl Simulation {
     /// The method's name.
     pub fn method_name(&self) -> &'static str {
         self.engine.method_name()
+    }
+
+    /// The columns an event function sees: every quantity, whatever
+    /// `output.quantities` selects.
+    pub fn event_columns(&self) -> &[Column] {
+        &self.event_columns
+    }
+
+    /// Adds an event (after those of the scene's `[[events]]`) to later runs.
+    pub fn add_event(&mut self, event: SceneEvent) {
+        self.plan.events.push(event);
+    }
+
+    /// The events of a run.
+    pub fn events(&self) -> &[SceneEvent] {
+        &self.plan.events
     }
 
     /// Runs the scene from its initial state over its time span (the
@@ -1237,6 +1508,9 @@ impl Simulation {
             summary,
             buf: Vec::with_capacity(self.columns.len()),
             last_recorded_t: None,
+            ev_sign: Vec::new(),
+            ev_g: Vec::new(),
+            full: Vec::new(),
             mm_idx: self.columns.iter().enumerate().filter(|(_, c)| c.name == "p_phi" || c.name.starts_with("J_")).map(|(j, _)| j).collect(),
             mm0: Vec::new(),
             last_progress: started,

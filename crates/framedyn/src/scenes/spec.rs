@@ -314,6 +314,14 @@ pub struct MethodSpec {
     /// Limit on the number of accepted steps (default 10⁹).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_steps: Option<u64>,
+    /// `implicit_midpoint` only: Newton tolerance (relative, max norm) in
+    /// `[1e-16, 1e-2]` (default 1e-14).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub newton_tol: Option<f64>,
+    /// `implicit_midpoint` only: Newton iterations per step, `1 ..= 1000`
+    /// (default 30).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub newton_max_iter: Option<u32>,
 }
 
 fn default_method() -> String {
@@ -322,7 +330,7 @@ fn default_method() -> String {
 
 impl Default for MethodSpec {
     fn default() -> Self {
-        MethodSpec { name: default_method(), h: None, rtol: None, atol: None, max_steps: None }
+        MethodSpec { name: default_method(), h: None, rtol: None, atol: None, max_steps: None, newton_tol: None, newton_max_iter: None }
     }
 }
 
@@ -405,4 +413,71 @@ pub struct OutputSpec {
     /// Output path (default `trajectory.csv`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub path: Option<String>,
+}
+
+/// The built-in event functions `g` of `[[events]]` (a crossing is a zero of
+/// `g` along the trajectory).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EventKind {
+    /// `g = normal·x − offset` with `x` the embedding position (a plane of
+    /// the ambient space: Poincaré sections; `normal = [0, 0, 1]` is the
+    /// equator plane of S²).
+    Plane,
+    /// `g = |x − point| − distance`, the Euclidean distance in the embedding
+    /// coordinates (pole passage: `point` = the pole, small `distance`).
+    Distance,
+    /// `g = column − value` for any record column (all quantities are
+    /// available whatever `output.quantities` says): the paper's coordinates
+    /// `r`, `phi`, `theta`, `r1`…, `energy`, `spin`, `x2`, …
+    Column,
+}
+
+/// Which sign changes of `g` an event reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EventDirection {
+    /// `g` from negative to non-negative.
+    Rising,
+    /// `g` from positive to non-positive.
+    Falling,
+    /// Both (default).
+    #[default]
+    Either,
+}
+
+/// One `[[events]]` entry: a built-in event function, the direction of the
+/// crossings reported and whether the first one stops the run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EventSpec {
+    /// `"plane"`, `"distance"` or `"column"`.
+    pub kind: EventKind,
+    /// Name in the output (default `event{i}`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// `plane`: the normal `n` (embedding components, non-zero).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal: Option<Vec<f64>>,
+    /// `plane`: the offset `c` of `n·x = c` (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub offset: Option<f64>,
+    /// `distance`: the point `p` (embedding components).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub point: Option<Vec<f64>>,
+    /// `distance`: the distance `d ≥ 0`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub distance: Option<f64>,
+    /// `column`: the column's name.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub column: Option<String>,
+    /// `column`: the value crossed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub value: Option<f64>,
+    /// `"rising"`, `"falling"` or `"either"` (default).
+    #[serde(default)]
+    pub direction: EventDirection,
+    /// Stop the run at the first reported crossing (default false).
+    #[serde(default)]
+    pub terminal: bool,
 }
