@@ -42,8 +42,9 @@ def surface_mesh(manifold: dict, n: int = 40, r_max: Optional[float] = None) -> 
         C, P = np.meshgrid(chi, u)
         return R * np.sinh(C) * np.cos(P), R * np.sinh(C) * np.sin(P), R * np.cosh(C)
     if kind == "T2":
-        L = manifold.get("major", 2.0)
-        R = manifold.get("minor", 1.0)
+        # Scenes serialise the radii as major/minor; L and R are their aliases.
+        L = manifold.get("major", manifold.get("L", 2.0))
+        R = manifold.get("minor", manifold.get("R", 1.0))
         T, P = np.meshgrid(u, u)
         return (L + R * np.cos(T)) * np.cos(P), (L + R * np.cos(T)) * np.sin(P), R * np.sin(T)
     return None

@@ -89,3 +89,14 @@ def test_plot_errors():
         plot.path3d(bare)
     with pytest.raises(fd.InvalidInputError, match="nothing to plot"):
         plot.invariant_drift(bare)
+
+
+def test_torus_mesh_uses_the_scene_radii():
+    """The torus is drawn with the scene's L and R (under either spelling)."""
+    from framedyn.plot import surface_mesh
+
+    for m in ({"kind": "T2", "L": 3.0, "R": 0.5}, {"kind": "T2", "major": 3.0, "minor": 0.5}):
+        x, y, z = surface_mesh(m, n=41)
+        rho = np.hypot(x, y)
+        assert abs(rho.max() - 3.5) < 1e-12 and abs(rho.min() - 2.5) < 1e-12
+        assert abs(z.max() - 0.5) < 1e-3
