@@ -1,6 +1,9 @@
 //! Per-step cost of every RKMK method on each manifold × body, one
 //! right-hand-side evaluation per model, and a **fixed-size hand-specialised
-//! RKMK4 step of the S² gyroscope** as the baseline in the same run.
+//! RKMK4 step of the S² gyroscope** as the baseline in the same run, and a
+//! hand-written **Strang splitting step** of the same gyroscope as the
+//! baseline of the library's `Splitting::strang` (row
+//! `strang_vs_hand_strang`; checked against it to 1e-13 before timing).
 //!
 //! `cargo bench --bench step_cost` runs the criterion benches (statistics
 //! only, no plots) and then an interleaved ratio table: rounds alternating
@@ -23,7 +26,7 @@ use std::io::Write;
 use common::*;
 use criterion::Criterion;
 use framedyn::dynamics::System;
-use framedyn::method::{GroupNumerics, Method, Rkmk, StepRequest};
+use framedyn::method::{GroupNumerics, Method, Rkmk, Splitting, StepRequest};
 use nalgebra::{Matrix3, Vector2, Vector3};
 
 /// Step size of the benched steps.
@@ -132,6 +135,45 @@ fn hand_rkmk4(sys: &HandSys, y: &Hand, h: f64) -> Hand {
     y1
 }
 
+/// The exact free flow over `h` (the library's `Splittable::drift` for the
+/// S² gyroscope, specialised): `Q ← Q exp(h(ξ(u) + c e₁)) exp(−h c e₁)`
+/// with `c = K s/m`, `u ← U(hc) u`, `(cos α, sin α)` rotated by `h s σ/I`.
+/// The rotation about `e₁` and the rotation of `u` share one `sin_cos`.
+#[inline(always)]
+fn hand_drift(sys: &HandSys, y: &Hand, h: f64) -> Hand {
+    let c = sys.inv_r * sys.inv_r * y.s * sys.inv_m;
+    let xi = HandAlg {
+        w: Vector3::new(c * h, -y.u[1] * sys.inv_r * h, y.u[0] * sys.inv_r * h),
+        a: sys.rate * y.s * h,
+        du: Vector2::zeros(),
+        ds: 0.0,
+    };
+    let mut z = compose_exp(y, &xi);
+    let (sn, cs) = (h * c).sin_cos();
+    // Q·exp(−hc hat(e₁)): columns 1, 2 rotate by −hc.
+    let (q1, q2): (Vector3<f64>, Vector3<f64>) = (z.q.column(1).into(), z.q.column(2).into());
+    z.q.set_column(1, &(q1 * cs - q2 * sn));
+    z.q.set_column(2, &(q1 * sn + q2 * cs));
+    z.u = Vector2::new(cs * y.u[0] - sn * y.u[1], sn * y.u[0] + cs * y.u[1]);
+    z
+}
+
+/// One Strang step `D(h/2) K(h) D(h/2)` (kick: `u ← u + h F̂/m`, the potential
+/// does not depend on the frame), renormalised like [`hand_rkmk4`].
+#[inline(always)]
+fn hand_strang(sys: &HandSys, y: &Hand, h: f64) -> Hand {
+    let mut z = hand_drift(sys, y, 0.5 * h);
+    let f = sys.f(&z).du;
+    let ks = sys.inv_r * sys.inv_r * z.s * sys.inv_m;
+    // f.du = (F̂ + K s ε u)/m: remove the gyroscopic term to keep F̂/m.
+    z.u += Vector2::new(f[0] + ks * z.u[1], f[1] - ks * z.u[0]) * h;
+    let mut y1 = hand_drift(sys, &z, 0.5 * h);
+    let d = y1.q.transpose() * y1.q - Matrix3::identity();
+    y1.q -= y1.q * d * 0.5;
+    y1.cs /= y1.cs.norm();
+    y1
+}
+
 /// The hand state and parameters of the library's S² reference state.
 fn hand_of(r: &Reference<S2Gyro>) -> (HandSys, Hand) {
     let m = &r.system;
@@ -166,6 +208,23 @@ fn check_hand(r: &Reference<S2Gyro>) {
     let du = (hy.u - Vector2::new(y.1 .0[0], y.1 .0[1])).amax().max((hy.s - y.1 .0[2]).abs());
     let err = dq.max(da).max(du);
     assert!(err <= 1e-13, "hand-written RKMK4 differs from the library's by {err:e}");
+}
+
+/// The hand-written Strang step computes the library's `Splitting::strang`
+/// step: compares after 10 steps (to 1e-13).
+fn check_hand_strang(r: &Reference<S2Gyro>) {
+    let (hs, mut hy) = hand_of(r);
+    let mut y = r.y0;
+    let m = Splitting::strang();
+    for _ in 0..10 {
+        hy = hand_strang(&hs, &hy, H);
+        y = m.step(&r.system, 0.0, &y, H, StepRequest::plain()).expect("step").y;
+    }
+    let dq = (hy.q - y.0 .0.matrix()).amax();
+    let da = (hy.cs - Vector2::new(y.0 .1.cos(), y.0 .1.sin())).amax();
+    let du = (hy.u - Vector2::new(y.1 .0[0], y.1 .0[1])).amax().max((hy.s - y.1 .0[2]).abs());
+    let err = dq.max(da).max(du);
+    assert!(err <= 1e-13, "hand-written Strang differs from the library's by {err:e}");
 }
 
 // ---------------------------------------------------------------------------
@@ -206,6 +265,12 @@ fn benches(c: &mut Criterion) {
     check_hand(&r);
     let (hs, hy) = hand_of(&r);
     c.bench_function("s2_gyroscope/hand_rkmk4", |b| b.iter(|| black_box(hand_rkmk4(&hs, black_box(&hy), H))));
+    check_hand_strang(&r);
+    c.bench_function("s2_gyroscope/hand_strang", |b| b.iter(|| black_box(hand_strang(&hs, black_box(&hy), H))));
+    let strang = Splitting::strang();
+    c.bench_function("s2_gyroscope/strang", |b| {
+        b.iter(|| black_box(strang.step(&r.system, 0.0, black_box(&r.y0), H, StepRequest::plain()).map(|o| o.y).ok()))
+    });
     c.bench_function("s2_gyroscope/hand_rhs", |b| b.iter(|| black_box(hs.f(black_box(&hy)))));
     bench_system(c, "s2_gyroscope", &r.system, r.y0);
     let (p, y) = s2_point();
@@ -254,19 +319,38 @@ fn median(v: &mut [f64]) -> f64 {
 }
 
 /// One row: per-step ns of `step` and of the baseline, alternating, 15 rounds.
-fn ratio_row(hs: &HandSys, hy: &Hand, mut step: impl FnMut()) -> (f64, f64, f64) {
+fn ratio_row(hs: &HandSys, hy: &Hand, step: impl FnMut()) -> (f64, f64, f64) {
+    ratio_row_against(
+        || {
+            black_box(hand_rkmk4(hs, black_box(hy), H));
+        },
+        step,
+    )
+}
+
+/// As [`ratio_row`] against any baseline.
+fn ratio_row_against(mut baseline: impl FnMut(), mut step: impl FnMut()) -> (f64, f64, f64) {
     let n = 20_000;
     let (mut own, mut base, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
     for _ in 0..15 {
-        let b = ns_per(n, || {
-            black_box(hand_rkmk4(hs, black_box(hy), H));
-        });
+        let b = ns_per(n, &mut baseline);
         let o = ns_per(n, &mut step);
         own.push(o);
         base.push(b);
         ratio.push(o / b);
     }
     (median(&mut own), median(&mut base), median(&mut ratio))
+}
+
+/// `FRAMEDYN_RATIOS_FILTER=<text>` keeps only the rows whose
+/// `system/method` contains `<text>` (profiling one step); the CSV is then
+/// not written.
+fn filter() -> Option<String> {
+    std::env::var("FRAMEDYN_RATIOS_FILTER").ok()
+}
+
+fn wanted(system: &str, method: &str) -> bool {
+    filter().map_or(true, |f| format!("{system}/{method}").contains(&f))
 }
 
 fn ratio_table() {
@@ -277,15 +361,19 @@ fn ratio_table() {
     macro_rules! system {
         ($name:expr, $sys:expr, $y0:expr) => {{
             let (sys, y0) = ($sys, $y0);
-            let (o, b, q) = ratio_row(&hs, &hy, || {
-                black_box(sys.vector_field(0.0, black_box(&y0)));
-            });
-            rows.push(($name.to_string(), "rhs".into(), o, b, q));
-            each_method!(mname, m, {
+            if wanted($name, "rhs") {
                 let (o, b, q) = ratio_row(&hs, &hy, || {
-                    black_box(m.step(&sys, 0.0, black_box(&y0), H, StepRequest::plain()).map(|o| o.y).ok());
+                    black_box(sys.vector_field(0.0, black_box(&y0)));
                 });
-                rows.push(($name.to_string(), mname.into(), o, b, q));
+                rows.push(($name.to_string(), "rhs".into(), o, b, q));
+            }
+            each_method!(mname, m, {
+                if wanted($name, mname) {
+                    let (o, b, q) = ratio_row(&hs, &hy, || {
+                        black_box(m.step(&sys, 0.0, black_box(&y0), H, StepRequest::plain()).map(|o| o.y).ok());
+                    });
+                    rows.push(($name.to_string(), mname.into(), o, b, q));
+                }
             });
         }};
     }
@@ -297,6 +385,24 @@ fn ratio_table() {
         black_box(hs.f(black_box(&hy)));
     });
     rows.push(("s2_gyroscope".into(), "hand_rhs".into(), o, b, q));
+    // The Strang target: library step against the hand-written Strang step.
+    check_hand_strang(&r);
+    let strang = Splitting::strang();
+    let hand_strang_row = || {
+        black_box(hand_strang(&hs, black_box(&hy), H));
+    };
+    let (o, b, q) = ratio_row(&hs, &hy, hand_strang_row);
+    rows.push(("s2_gyroscope".into(), "hand_strang".into(), o, b, q));
+    if wanted("s2_gyroscope", "strang") {
+        let (o, b, q) = ratio_row(&hs, &hy, || {
+            black_box(strang.step(&r.system, 0.0, black_box(&r.y0), H, StepRequest::plain()).map(|o| o.y).ok());
+        });
+        rows.push(("s2_gyroscope".into(), "strang".into(), o, b, q));
+        let (o, b, q) = ratio_row_against(hand_strang_row, || {
+            black_box(strang.step(&r.system, 0.0, black_box(&r.y0), H, StepRequest::plain()).map(|o| o.y).ok());
+        });
+        rows.push(("s2_gyroscope".into(), "strang_vs_hand_strang".into(), o, b, q));
+    }
     system!("s2_gyroscope", r.system.clone(), r.y0);
     let (p, y) = s2_point();
     system!("s2_point", p, y);
@@ -313,13 +419,20 @@ fn ratio_table() {
     let r = t2_affine();
     system!("t2_affine", r.system.clone(), r.y0);
 
+    if filter().is_some() {
+        for (s, m, o, b, q) in &rows {
+            println!("{s:<14} {m:<11} {o:>10.1} {b:>12.1} {q:>10.3}");
+        }
+        return;
+    }
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/data/step_cost.csv");
     let _ = std::fs::create_dir_all(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/data"));
     let mut out = std::fs::File::create(path).expect("create docs/data/step_cost.csv");
-    writeln!(out, "system,method,ns_per_call,baseline_ns,ratio_to_hand_rkmk4").unwrap();
+    writeln!(out, "system,method,ns_per_call,baseline,baseline_ns,ratio_to_baseline").unwrap();
     println!("\n{:<14} {:<11} {:>10} {:>12} {:>10}", "system", "call", "ns/call", "baseline ns", "ratio");
     for (s, m, o, b, q) in &rows {
-        writeln!(out, "{s},{m},{o:.1},{b:.1},{q:.3}").unwrap();
+        let base = if m.ends_with("_vs_hand_strang") { "hand_strang" } else { "hand_rkmk4" };
+        writeln!(out, "{s},{m},{o:.1},{base},{b:.1},{q:.3}").unwrap();
         println!("{s:<14} {m:<11} {o:>10.1} {b:>12.1} {q:>10.3}");
     }
     println!("written: docs/data/step_cost.csv");

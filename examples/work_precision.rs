@@ -23,10 +23,10 @@
 //! - `defect_series.csv`: energy error and constraint defect against time
 //!   for the fixed-step methods on the S² gyroscope over T = 1000.
 //!
-//! The method table is `common::rkmk_table` (every system) plus the
-//! per-problem entries pushed in `s2_entries` (coordinate RK4 here; the
-//! splitting methods and coordinate baselines of the `methods` branch go
-//! there with one line each).
+//! The method table is `common::rkmk_table` (every system) plus, per
+//! problem, the splittings (`splitting_entries`: gyroscopes on S², H², S³),
+//! the implicit Lie midpoint rule (S², T², affine bodies) and, on the S²
+//! gyroscope, the coordinate baselines (`s2_entries`).
 
 #[path = "../benches/common/mod.rs"]
 mod common;
@@ -39,7 +39,9 @@ use framedyn::body::Gyroscope;
 use framedyn::coords::{accelerations, ambient_state, energy as coords_energy, Gyroscope2, PlaneRotation, SphereChart};
 use framedyn::dynamics::{Gyroscope2Model, System};
 use framedyn::manifold::Sphere2;
-use framedyn::method::{GroupNumerics, Rkmk};
+use framedyn::method::baseline::{ChartSystem, CoordinateRk};
+use framedyn::method::{GroupNumerics, ImplicitMidpoint, Method, Rkmk, Splittable, Splitting};
+use framedyn::solve::Problem;
 use framedyn::potential::{Centre, CosineFamily};
 use framedyn::solve::{solve, Options, Save, Stepper};
 use nalgebra::{SVector, Vector3};
@@ -259,15 +261,100 @@ fn coords_rk4_entry(a: f64) -> Entry<S2Gyro> {
     }
 }
 
-/// The entries for the S² gyroscope: the RKMK table plus system-specific
-/// methods. ADD the `methods` branch's methods here, one line each, e.g.
-/// `t.push(fixed("strang", 2, Strang::new()));`,
-/// `t.push(fixed("yoshida4", 4, Yoshida4::new()));`,
-/// `t.push(fixed("lie_midpoint", 2, LieMidpoint::new()));`; coordinate
-/// baselines as an [`Entry`] like [`coords_rk4_entry`].
-fn s2_entries() -> Vec<Entry<S2Gyro>> {
+/// A coordinate baseline of the library ([`CoordinateRk`] on the chart
+/// system of the S² Lagrangian) as a table entry: solves the chart form from
+/// the same physical state and maps the end state to the observable (energy
+/// and momentum "drift" are the end values, as for `coords_rk4`).
+fn coordinate_entry<M>(name: &'static str, order: u32, adaptive: bool, a: f64, method: M) -> Entry<S2Gyro>
+where
+    M: Method<ChartSystem<S2Coords, 3>> + 'static,
+{
+    Entry {
+        name,
+        order,
+        adaptive,
+        run: Box::new(move |r, s, clock| {
+            let sys = s2_coords(a);
+            let (q0, v0) = s2_chart_state();
+            let problem = match Problem::new(ChartSystem::new(sys.clone()), ChartSystem::<S2Coords, 3>::state(&q0, &v0), (0.0, r.t_end)) {
+                Ok(p) => p,
+                Err(e) => return Outcome { failure: Some(e.to_string()), ..Outcome::default() },
+            };
+            let opts = if adaptive { Options::adaptive(s, s).max_steps(10_000_000) } else { Options::fixed(s).max_steps(usize::MAX) };
+            let opts = opts.save(Save::Ends);
+            let (cpu, res) = timed(clock, || solve(&problem, &method, &opts));
+            let sol = match res {
+                Ok(sol) => sol,
+                Err(f) => return Outcome { cpu, failure: Some(format!("{}", f.error)), ..Outcome::default() },
+            };
+            let y = sol.last().1;
+            let (q, v) = (y.0 .0, y.1 .0);
+            match coords_obs(&sys, &q, &v) {
+                Ok(obs) => Outcome {
+                    obs,
+                    cpu,
+                    rhs: sol.stats().rhs_evals,
+                    steps: sol.stats().accepted,
+                    rejected: sol.stats().rejected,
+                    energy_drift: (coords_energy(&sys, &q, &v).unwrap_or(f64::NAN) - coords_energy(&sys, &q0, &v0).unwrap_or(f64::NAN)).abs(),
+                    momentum_drift: (coords_pphi(&sys, &q, &v) - coords_pphi(&sys, &q0, &v0)).abs(),
+                    defect: f64::NAN,
+                    failure: None,
+                },
+                Err(e) => Outcome { cpu, failure: Some(e.to_string()), ..Outcome::default() },
+            }
+        }),
+    }
+}
+
+/// The splitting methods with exact free flows (systems on S², H², S³).
+fn splitting_entries<S>() -> Vec<Entry<S>>
+where
+    S: Splittable + Clone + 'static,
+    S::State: GroupNumerics,
+{
+    vec![
+        fixed("strang", 2, Splitting::strang()),
+        fixed("yoshida4", 4, Splitting::yoshida4()),
+        fixed("suzuki4", 4, Splitting::suzuki4()),
+        fixed("blanes_moan4", 4, Splitting::blanes_moan4()),
+        fixed("yoshida6", 6, Splitting::yoshida6()),
+        fixed("blanes_moan6", 6, Splitting::blanes_moan6()),
+    ]
+}
+
+/// The RKMK table plus the splittings (gyroscopes on S², H², S³).
+fn splittable_table<S>() -> Vec<Entry<S>>
+where
+    S: Splittable + Clone + 'static,
+    S::State: GroupNumerics,
+{
     let mut t = rkmk_table();
+    t.extend(splitting_entries());
+    t
+}
+
+/// The RKMK table plus the implicit Lie midpoint rule (systems without
+/// exact free flows: T², affine bodies).
+fn implicit_table<S>() -> Vec<Entry<S>>
+where
+    S: System + Clone + 'static,
+    S::State: GroupNumerics,
+{
+    let mut t = rkmk_table();
+    t.push(fixed("lie_midpoint", 2, ImplicitMidpoint::new()));
+    t
+}
+
+/// The entries for the S² gyroscope: the RKMK table, the splittings, the
+/// implicit Lie midpoint rule, and the coordinate baselines (the hand loop
+/// `coords_rk4`, and the library's [`CoordinateRk`] RK4 / adaptive DOPRI5).
+fn s2_entries() -> Vec<Entry<S2Gyro>> {
+    let mut t = splittable_table();
+    t.push(fixed("lie_midpoint", 2, ImplicitMidpoint::new()));
     t.push(coords_rk4_entry(S2_A));
+    t.push(coordinate_entry("coords_rk4_lib", 4, false, S2_A, CoordinateRk::rk4()));
+    t.push(coordinate_entry("coords_dopri5", 5, true, S2_A, CoordinateRk::dopri5()));
     t
 }
 
@@ -351,176 +438,6 @@ fn defect_series(out: &str, quick: bool) -> std::io::Result<()> {
     Ok(())
 }
 
-
-// ---------------------------------------------------------------------------
-// Stability (docs/stability.md)
-// ---------------------------------------------------------------------------
-
-/// Runs `$body` with `$name`, `$m` bound to each fixed-step RKMK method.
-macro_rules! each_fixed {
-    ($name:ident, $m:ident, $body:block) => {{
-        { let ($name, $m) = ("lie_euler", Rkmk::lie_euler()); $body }
-        { let ($name, $m) = ("heun", Rkmk::heun()); $body }
-        { let ($name, $m) = ("kutta3", Rkmk::kutta3()); $body }
-        { let ($name, $m) = ("rkmk4", Rkmk::rk4()); $body }
-        { let ($name, $m) = ("dopri5_fixed", Rkmk::dopri5()); $body }
-        { let ($name, $m) = ("butcher6", Rkmk::butcher6()); $body }
-    }};
-}
-
-/// A run with fixed steps `h` over the span is *stable* if every step
-/// succeeds and the energy error at every step stays ≤ 10 % of max(|E₀|, 1).
-fn is_stable<S, M>(r: &Reference<S>, m: &M, h: f64) -> bool
-where
-    S: System + Clone,
-    S::State: GroupNumerics,
-    M: framedyn::method::Method<S>,
-{
-    let n = (r.t_end / h).ceil() as usize;
-    let e0 = r.system.energy(&r.y0);
-    let tol = 0.1 * e0.abs().max(1.0);
-    let Ok(mut st) = Stepper::new(r.system.clone(), m.clone(), 0.0, r.y0) else { return false };
-    for _ in 0..n {
-        if st.step(r.t_end / n as f64).is_err() {
-            return false;
-        }
-        let e = r.system.energy(st.state());
-        if !((e - e0).abs() <= tol) {
-            return false;
-        }
-    }
-    true
-}
-
-/// The largest `h = 2^{−k/4}` (k ≥ 0, h ≥ 1e-5) such that `h` and the next
-/// two smaller grid steps are stable.
-fn largest_stable<S, M>(r: &Reference<S>, m: &M) -> f64
-where
-    S: System + Clone,
-    S::State: GroupNumerics,
-    M: framedyn::method::Method<S>,
-{
-    let grid: Vec<f64> = (0..=66).map(|k| 2f64.powf(-(k as f64) / 4.0)).collect();
-    for i in 0..grid.len() - 2 {
-        if is_stable(r, m, grid[i]) && is_stable(r, m, grid[i + 1]) && is_stable(r, m, grid[i + 2]) {
-            return grid[i];
-        }
-    }
-    f64::NAN
-}
-
-/// The S² gyroscope built from a chart state `(r, φ, ψ; ṙ, φ̇, ω)` (ω the
-/// angular velocity (a91)), so that the coordinate form starts identically.
-fn s2_from_chart(a: f64, q0: [f64; 3], v0: [f64; 3], t_end: f64, name: &'static str) -> (Reference<S2Gyro>, S2Coords, SVector<f64, 3>, SVector<f64, 3>) {
-    let sys = s2_coords(a);
-    let q = Vector3::new(q0[0], q0[1], q0[2]);
-    let v = Vector3::new(v0[0], v0[1], v0[2] - (q0[0] / S2_RADIUS).cos() * v0[1]);
-    let amb = ambient_state(&sys, &q, &v).unwrap();
-    let spin = sys.comoving(&q, &v).unwrap().spin[(0, 1)];
-    let mut r = s2_gyro_with(a, S2_RADIUS, q0, v0, t_end, name);
-    r.y0 = r.system.state(&amb.position, &amb.velocity, &amb.frame, spin).unwrap();
-    (r, sys, q, v)
-}
-
-fn stability(out: &str, quick: bool) -> std::io::Result<()> {
-    // 1. Largest stable step against stiffness.
-    let mut f = std::fs::File::create(format!("{out}/stability_steps.csv"))?;
-    writeln!(f, "sweep,param,method,h_max_stable")?;
-    let t = 10.0;
-    let kappas: &[f64] = if quick { &[1.0, 100.0] } else { &[1.0, 10.0, 100.0, 1e3, 1e4] };
-    for &k in kappas {
-        let mut r = s2_affine_kappa(k);
-        r.t_end = t;
-        each_fixed!(name, m, { writeln!(f, "kappa,{k},{name},{:e}", largest_stable(&r, &m))?; });
-        eprintln!("  stability: kappa {k} done");
-    }
-    let omegas: &[f64] = if quick { &[1.0, 100.0] } else { &[1.0, 10.0, 100.0, 1e3] };
-    for &w in omegas {
-        let r = s2_gyro_with(S2_A, 1.0, S2_Q0, [0.3, 0.6, w], t, "spin");
-        each_fixed!(name, m, { writeln!(f, "spin_omega,{w},{name},{:e}", largest_stable(&r, &m))?; });
-        eprintln!("  stability: omega {w} done");
-    }
-    let radii: &[f64] = if quick { &[0.1, 1.0] } else { &[0.03, 0.1, 0.3, 1.0, 3.0, 10.0] };
-    for &rad in radii {
-        let r = s2_gyro_with(S2_A, rad, [rad, 0.3, 0.4], [0.3, 0.6 / rad, 1.0], t, "radius");
-        each_fixed!(name, m, { writeln!(f, "radius,{rad},{name},{:e}", largest_stable(&r, &m))?; });
-        eprintln!("  stability: radius {rad} done");
-    }
-
-    // 2. Through the pole: group RKMK4 against coordinate RK4, same physical start.
-    let mut f = std::fs::File::create(format!("{out}/stability_pole.csv"))?;
-    writeln!(f, "method,h,error,min_distance_to_pole,failure")?;
-    let (r, sys, q0, v0) = s2_from_chart(-0.5, [1e-6, 0.3, 0.4], [1.0, 0.0, 1.0], 20.0, "pole");
-    let mut st = Stepper::new(r.system.clone(), Rkmk::butcher6(), 0.0, r.y0).expect("stepper");
-    st.advance(r.t_end, 80_000).expect("reference");
-    let reference = (r.observable)(&r.system, st.state());
-    for k in 0..8 {
-        let h = 0.02 / 2f64.powi(k);
-        let n = (r.t_end / h).round() as usize;
-        let mut st = Stepper::new(r.system.clone(), Rkmk::rk4(), 0.0, r.y0).expect("stepper");
-        let mut dmin = f64::INFINITY;
-        for _ in 0..n {
-            st.step(r.t_end / n as f64).expect("group step");
-            let x = r.system.position(st.state());
-            dmin = dmin.min((x - Vector3::z() * S2_RADIUS).norm());
-        }
-        let err = obs_dist(&(r.observable)(&r.system, st.state()), &reference);
-        writeln!(f, "rkmk4_group,{h:e},{err:e},{dmin:e},")?;
-        match coords_rk4_run(&sys, q0, v0, r.t_end, n) {
-            Ok((q, v, _)) => {
-                let e = coords_obs(&sys, &q, &v).map(|o| obs_dist(&o, &reference)).unwrap_or(f64::NAN);
-                writeln!(f, "rk4_coords,{h:e},{e:e},,")?;
-            }
-            Err(e) => writeln!(f, "rk4_coords,{h:e},NaN,,{}", e.replace(',', ";"))?,
-        }
-    }
-    eprintln!("  stability: pole done");
-
-    // 3. Escape to infinity on H²: a free gyroscope moving outward.
-    let mut f = std::fs::File::create(format!("{out}/stability_h2.csv"))?;
-    writeln!(f, "method,t,distance,defect,relative_energy_error")?;
-    let h2 = framedyn::manifold::Hyperbolic2::new(1.0).unwrap();
-    let pot = CosineFamily::new(0.0, 0.0, Centre::hyperbolic2(&h2)).unwrap();
-    let m = Gyroscope2Model::new(h2, Gyroscope::<2>::isotropic(1.0, 0.3).unwrap(), pot).unwrap();
-    let x = nalgebra::Vector2::new(0.5, 0.3);
-    use framedyn::manifold::Manifold;
-    let (p, v) = (h2.embed(&x), h2.embed_tangent(&x, &nalgebra::Vector2::new(1.0, 0.2)));
-    let y0 = m.state_at(&p, &v, 0.4, m.spin_for_angular_velocity(1.0)).unwrap();
-    let t_end = if quick { 20.0 } else { 40.0 };
-    let e0 = m.energy(&y0);
-    let mut st = Stepper::new(m.clone(), Rkmk::rk4(), 0.0, y0).expect("stepper");
-    let n = (t_end / 0.01) as usize;
-    for i in 1..=n {
-        if st.step(0.01).is_err() {
-            writeln!(f, "rkmk4_h0.01,{},NaN,NaN,NaN", st.t())?;
-            break;
-        }
-        if i % 100 == 0 {
-            let y = st.state();
-            let z = m.position(y)[2];
-            writeln!(f, "rkmk4_h0.01,{},{:e},{:e},{:e}", st.t(), z.acosh(), m.defect(y), ((m.energy(y) - e0) / e0).abs())?;
-        }
-    }
-    let p = framedyn::solve::Problem::new(m.clone(), y0, (0.0, t_end)).unwrap();
-    let sol = solve(&p, &Rkmk::dopri5(), &Options::adaptive(1e-10, 1e-10).save(Save::Steps).max_steps(10_000_000));
-    let (states, times): (Vec<_>, Vec<f64>) = match &sol {
-        Ok(s) => (s.states().to_vec(), s.times().to_vec()),
-        Err(fl) => (fl.solution.states().to_vec(), fl.solution.times().to_vec()),
-    };
-    let every = (states.len() / 400).max(1);
-    for (k, (y, t)) in states.iter().zip(&times).enumerate() {
-        if k % every == 0 {
-            let z = m.position(y)[2];
-            writeln!(f, "dopri5_tol1e-10,{t},{:e},{:e},{:e}", z.acosh(), m.defect(y), ((m.energy(y) - e0) / e0).abs())?;
-        }
-    }
-    if let Err(fl) = sol {
-        eprintln!("  H² dopri5 stopped: {}", fl.error);
-    }
-    eprintln!("  stability: H² done");
-    Ok(())
-}
-
 fn main() -> std::io::Result<()> {
     let a = args();
     std::fs::create_dir_all(&a.out)?;
@@ -534,15 +451,14 @@ fn main() -> std::io::Result<()> {
     let r = s2_reference(t_s2, "s2_gyro");
     let reference = run_problem(&r, &s2_entries(), if q { 4000 } else { 40_000 }, q, &mut csv, &mut refs);
     write_s2_data(&a.out, &reference, t_s2)?;
-    run_problem(&s2_pole(), &rkmk_table(), 20_000, q, &mut csv, &mut refs);
-    run_problem(&h2_gyro(), &rkmk_table(), 20_000, q, &mut csv, &mut refs);
-    run_problem(&h2_lorentz(), &rkmk_table(), 20_000, q, &mut csv, &mut refs);
-    run_problem(&t2_gyro(), &rkmk_table(), 20_000, q, &mut csv, &mut refs);
-    run_problem(&s3_gyro(), &rkmk_table(), 20_000, q, &mut csv, &mut refs);
-    run_problem(&s2_affine(), &rkmk_table(), 40_000, q, &mut csv, &mut refs);
-    run_problem(&t2_affine(), &rkmk_table(), 40_000, q, &mut csv, &mut refs);
+    run_problem(&s2_pole(), &splittable_table(), 20_000, q, &mut csv, &mut refs);
+    run_problem(&h2_gyro(), &splittable_table(), 20_000, q, &mut csv, &mut refs);
+    run_problem(&h2_lorentz(), &splittable_table(), 20_000, q, &mut csv, &mut refs);
+    run_problem(&t2_gyro(), &implicit_table(), 20_000, q, &mut csv, &mut refs);
+    run_problem(&s3_gyro(), &splittable_table(), 20_000, q, &mut csv, &mut refs);
+    run_problem(&s2_affine(), &implicit_table(), 40_000, q, &mut csv, &mut refs);
+    run_problem(&t2_affine(), &implicit_table(), 40_000, q, &mut csv, &mut refs);
     defect_series(&a.out, q)?;
-    stability(&a.out, q)?;
 
     std::fs::write(format!("{}/wp_rust.csv", a.out), csv)?;
     std::fs::write(format!("{}/references.csv", a.out), refs)?;
