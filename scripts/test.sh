@@ -33,6 +33,11 @@ export PYO3_ENVIRONMENT_SIGNATURE
 
 cargo test --workspace --all-targets
 cargo test --workspace --doc
+# The examples compare what they measure with the paper's closed forms and
+# exit with status 1 on a mismatch.
+for example in transport_through_pole s2_bodies h2_bodies t2_bodies s3_bodies potential_families user_potential; do
+    cargo run --quiet -p framedyn --example "$example"
+done
 
 "$FRAMEDYN_VENV/bin/maturin" develop --quiet
 # The Agg backend: the plotting tests draw without a display.

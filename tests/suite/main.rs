@@ -6,6 +6,7 @@ mod lie_laws;
 mod manifold_laws;
 
 mod coords;
+mod coords_state;
 mod crosscheck;
 mod crosscheck_affine;
 mod dynamics_affine;
@@ -18,6 +19,7 @@ mod scenes;
 mod sphere;
 mod sphere3;
 mod splitting;
+mod stability;
 mod implicit;
 mod baselines;
 mod torus;

@@ -41,3 +41,13 @@ pub mod scenes;
 pub mod solve;
 
 pub use error::{Error, Result};
+
+/// The README's Rust code blocks, run as doctests (never compiled otherwise).
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;
+
+/// The guide's (`docs/guide.md`) Rust code blocks, run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/guide.md")]
+pub struct GuideDoctests;
