@@ -19,8 +19,12 @@ Computation happens in Rust with the GIL released. Errors arrive as
 User potentials are Python callables ``V(x, e) -> float`` of the embedding
 position ``x`` (shape ``(E,)``) and the body frame ``e`` (shape ``(N, E)``,
 the vectors as rows); their gradient is taken by extrapolated finite
-differences in Rust, and every evaluation takes the GIL: expect them to be
-orders of magnitude slower than the built-in potentials of the scene files.
+differences in Rust (about 20 calls per coordinate), unless a gradient
+``G(x, e) -> (dV/dx, dV/de)`` is supplied as ``user_gradient`` (partial
+derivatives in the embedding components, ``dV/de`` of shape ``(N, E)`` like
+``e``; one call of each function per evaluation, trusted as given). Every
+evaluation takes the GIL: expect them to be orders of magnitude slower than
+the built-in potentials of the scene files.
 """
 
 from __future__ import annotations
@@ -55,6 +59,7 @@ __all__ = [
 ]
 
 UserPotential = Callable[[np.ndarray, np.ndarray], float]
+UserGradient = Callable[[np.ndarray, np.ndarray], Tuple[Any, Any]]
 
 
 def _check_scene(scene: Any, what: str = "scene") -> Scene:
@@ -132,11 +137,14 @@ def solve(
     user_potential: Optional[UserPotential] = None,
     events: Optional[Sequence[Union[Event, EventFunction]]] = None,
     save: bool = False,
+    user_gradient: Optional[UserGradient] = None,
 ) -> Solution:
     """Runs ``scene`` over its time span and returns its records.
 
     ``user_potential``: an optional Python callable ``V(x, e) -> float``
-    added to the scene's potential (slow: see the module docs). ``events``:
+    added to the scene's potential (slow: see the module docs);
+    ``user_gradient``: its gradient ``G(x, e) -> (dV/dx, dV/de)`` (shapes
+    ``(E,)`` and ``(N, E)``), used instead of finite differences. ``events``:
     user events (:class:`Event` or bare callables ``f(t, state)``) after the
     scene's ``[[events]]``; the located ones are ``solution.events``. The run
     releases the GIL; Ctrl-C stops it within about 50 ms
@@ -161,7 +169,7 @@ def solve(
         raise InvalidInputError(f"invalid `save` = {save!r}: must be a bool")
     evs = _events(events)
     try:
-        raw = _framedyn.run(s._native, user_potential, evs)
+        raw = _framedyn.run(s._native, user_potential, evs, user_gradient)
     except BaseException as e:
         raise _with_partial(e)
     sol = Solution._from_raw(raw)
@@ -180,6 +188,7 @@ def solve_batch(
     user_potential: Optional[UserPotential] = None,
     threads: Optional[int] = None,
     on_error: str = "raise",
+    user_gradient: Optional[UserGradient] = None,
 ) -> BatchSolution:
     """Runs many scenes in parallel (Rust threads, GIL released).
 
@@ -188,6 +197,7 @@ def solve_batch(
     "potential.kappa": 2.0}``). Every member gives exactly the records of
     :func:`solve` on that scene.
 
+    ``user_potential``, ``user_gradient``: as for :func:`solve`.
     ``threads``: worker threads (default: one per core). ``on_error``:
     ``"raise"`` raises the first failure (its ``index`` attribute names the
     member); ``"keep"`` returns every member, failed ones holding their
@@ -198,7 +208,7 @@ def solve_batch(
     if threads is not None and (not isinstance(threads, int) or isinstance(threads, bool) or threads < 1):
         raise InvalidInputError(f"invalid `threads` = {threads!r}: must be an int ≥ 1 or None")
     members = as_scenes(scenes, params)
-    results = _framedyn.run_batch([m._native for m in members], user_potential, threads)
+    results = _framedyn.run_batch([m._native for m in members], user_potential, threads, user_gradient)
     out: List[Solution] = []
     for i, r in enumerate(results):
         if isinstance(r, BaseException):
@@ -229,9 +239,15 @@ class Stepper:
 
     __slots__ = {"_native": "The native stepper.", "scene": "The :class:`Scene` being stepped (checked copy)."}
 
-    def __init__(self, scene: Union[Scene, Mapping[str, Any]], *, user_potential: Optional[UserPotential] = None) -> None:
+    def __init__(
+        self,
+        scene: Union[Scene, Mapping[str, Any]],
+        *,
+        user_potential: Optional[UserPotential] = None,
+        user_gradient: Optional[UserGradient] = None,
+    ) -> None:
         self.scene: Scene = _check_scene(scene)
-        self._native = _framedyn.Stepper(self.scene._native, user_potential)
+        self._native = _framedyn.Stepper(self.scene._native, user_potential, user_gradient)
 
     @staticmethod
     def _check_h(h: Any) -> float:

@@ -13,6 +13,7 @@ __all__ = ["Scene", "Stepper", "__version__", "_raise_for_test", "cli_main", "ru
 __version__: str
 
 _UserPotential = Callable[[npt.NDArray[np.float64], npt.NDArray[np.float64]], float]
+_UserGradient = Callable[[npt.NDArray[np.float64], npt.NDArray[np.float64]], Tuple[Any, Any]]
 
 @final
 class Scene:
@@ -36,7 +37,9 @@ class Scene:
 class Stepper:
     """A built scene advanced step by step (see ``framedyn.Stepper``)."""
 
-    def __new__(cls, scene: Scene, user_potential: Optional[_UserPotential] = None) -> Stepper: ...
+    def __new__(
+        cls, scene: Scene, user_potential: Optional[_UserPotential] = None, user_gradient: Optional[_UserGradient] = None
+    ) -> Stepper: ...
     def step(self, h: float) -> None: ...
     def advance(self, h: float, n: int) -> None: ...
     @property
@@ -58,11 +61,15 @@ def run(
     scene: Scene,
     user_potential: Optional[_UserPotential] = None,
     events: Optional[Sequence[Tuple[str, Callable[[float, Dict[str, float]], float], str, bool]]] = None,
+    user_gradient: Optional[_UserGradient] = None,
 ) -> Dict[str, Any]:
     """One run: ``{"data": (n, columns) array, "columns", "units", "summary", "events"}``."""
 
 def run_batch(
-    scenes: Sequence[Scene], user_potential: Optional[_UserPotential] = None, threads: Optional[int] = None
+    scenes: Sequence[Scene],
+    user_potential: Optional[_UserPotential] = None,
+    threads: Optional[int] = None,
+    user_gradient: Optional[_UserGradient] = None,
 ) -> List[Union[Dict[str, Any], BaseException]]:
     """Parallel runs: per scene the result dict or its exception."""
 

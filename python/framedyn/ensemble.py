@@ -28,12 +28,14 @@ from ._solution import BatchSolution, Solution
 __all__ = ["solve_ensemble"]
 
 
-def _run_chunk(jsons: List[str], user_potential: Any, threads: Optional[int]) -> List[Solution]:
+def _run_chunk(jsons: List[str], user_potential: Any, threads: Optional[int], user_gradient: Any = None) -> List[Solution]:
     """Runs on a worker: one chunk of the ensemble (failures kept per member)."""
     import framedyn
 
     scenes = [Scene.from_json(j) for j in jsons]
-    return list(framedyn.solve_batch(scenes, user_potential=user_potential, threads=threads, on_error="keep"))
+    return list(
+        framedyn.solve_batch(scenes, user_potential=user_potential, user_gradient=user_gradient, threads=threads, on_error="keep")
+    )
 
 
 def solve_ensemble(
@@ -45,6 +47,7 @@ def solve_ensemble(
     threads_per_task: Optional[int] = 1,
     user_potential: Any = None,
     on_error: str = "raise",
+    user_gradient: Any = None,
 ) -> BatchSolution:
     """Runs the batch (a list of scenes, or one scene and ``params``, as in
     :func:`framedyn.solve_batch`) on the Dask cluster of ``client`` (default:
@@ -52,8 +55,9 @@ def solve_ensemble(
 
     ``chunk_size``: members per task (default: spread over twice the
     cluster's worker threads). ``threads_per_task``: Rust threads per task
-    (default 1: Dask's worker threads provide the parallelism). Errors as
-    :func:`framedyn.solve_batch`.
+    (default 1: Dask's worker threads provide the parallelism).
+    ``user_potential``, ``user_gradient`` (picklable callables): as for
+    :func:`framedyn.solve`. Errors as :func:`framedyn.solve_batch`.
     """
     try:
         from dask.distributed import get_client
@@ -71,7 +75,7 @@ def solve_ensemble(
         chunk_size = max(1, -(-len(members) // (2 * slots)))
     jsons = [m.to_json() for m in members]
     chunks = [jsons[i : i + chunk_size] for i in range(0, len(jsons), chunk_size)]
-    futures = [client.submit(_run_chunk, c, user_potential, threads_per_task, pure=False) for c in chunks]
+    futures = [client.submit(_run_chunk, c, user_potential, threads_per_task, user_gradient, pure=False) for c in chunks]
     solutions: List[Solution] = [s for part in client.gather(futures) for s in part]
     if on_error == "raise":
         for i, s in enumerate(solutions):

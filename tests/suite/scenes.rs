@@ -6,7 +6,7 @@
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
-use framedyn::scenes::{example, MemorySink, RunSummary, Scene, SceneError, SceneStop, DEFAULT_SCENE, EXAMPLES};
+use framedyn::scenes::{example, MemorySink, RunSummary, Scene, SceneError, SceneStop, UserGradientFn, UserPotentialFn, DEFAULT_SCENE, EXAMPLES};
 use proptest::prelude::*;
 
 fn run(scene: &Scene) -> (RunSummary, MemorySink) {
@@ -231,7 +231,9 @@ fn adaptive_run_agrees_with_fixed() {
     assert!(s.relative_energy_drift() < 1e-8, "{:e}", s.relative_energy_drift());
 }
 
-/// A user potential (finite-difference gradient) reproduces the built-in one.
+/// A user potential reproduces the built-in one: to the differences'
+/// accuracy with the finite-difference gradient, to round-off with the
+/// exact gradient supplied (and a wrong supplied gradient is not).
 #[test]
 fn user_potential_matches_builtin() {
     let mut scene = example("s2-gyroscope-cosine").unwrap();
@@ -239,15 +241,33 @@ fn user_potential_matches_builtin() {
     let (_, builtin) = run(&scene);
     let (a, b) = (scene.potential.alpha_hat.unwrap(), scene.potential.beta_hat.unwrap());
     scene.potential = Default::default();
-    let f = Arc::new(move |x: &[f64], _e: &[f64]| a * x[2] * x[2] + b * x[2]);
-    let mut sim = scene.build_with_user_potential(f).unwrap();
-    let mut sink = MemorySink::default();
-    sim.run(&mut sink, &AtomicBool::new(false), &mut |_| {}).unwrap();
+    let f: UserPotentialFn = Arc::new(move |x: &[f64], _e: &[f64]| a * x[2] * x[2] + b * x[2]);
+    let grad = |scale: f64| -> UserGradientFn {
+        Arc::new(move |x: &[f64], _e: &[f64], dx: &mut [f64], de: &mut [f64]| {
+            dx.copy_from_slice(&[0.0, 0.0, scale * (2.0 * a * x[2] + b)]);
+            de.fill(0.0);
+        })
+    };
+    let max_err = |sink: &MemorySink, c: &str| {
+        let (p, q) = (col(sink, c), col(&builtin, c));
+        p.iter().zip(&q).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max)
+    };
+    let run_user = |sim: &mut framedyn::scenes::Simulation| {
+        let mut sink = MemorySink::default();
+        sim.run(&mut sink, &AtomicBool::new(false), &mut |_| {}).unwrap();
+        sink
+    };
+    let differenced = run_user(&mut scene.build_with_user_potential(f.clone()).unwrap());
+    let supplied = run_user(&mut scene.build_with_user_potential_and_gradient(f.clone(), grad(1.0)).unwrap());
+    let wrong = run_user(&mut scene.build_with_user_potential_and_gradient(f, grad(1.01)).unwrap());
     for c in ["x0", "x1", "x2", "spin", "energy"] {
-        let (p, q) = (col(&sink, c), col(&builtin, c));
-        let err = p.iter().zip(&q).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-        assert!(err < 1e-8, "{c}: {err:e}");
+        let err = max_err(&differenced, c);
+        assert!(err < 1e-8, "differenced {c}: {err:e}");
+        let err = max_err(&supplied, c);
+        assert!(err < 1e-13, "supplied {c}: {err:e}");
     }
+    let err = max_err(&wrong, "x2");
+    assert!(err > 1e-5, "a 1% wrong gradient changed x2 by only {err:e}");
 }
 
 /// JSON and TOML describe the same scene.

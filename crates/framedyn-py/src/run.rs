@@ -8,9 +8,9 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use framedyn::scenes::{
     Column, EventDirection, EventFn, EventHit, Progress, RecordSink, RunError, RunSummary, Scene, SceneError, SceneEvent, SceneStop, Simulation,
-    UserPotentialFn,
+    UserGradientFn, UserPotentialFn,
 };
-use numpy::{PyArray1, PyArrayMethods};
+use numpy::{AllowTypeChange, PyArray1, PyArrayLikeDyn, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
@@ -51,38 +51,117 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
-/// A Python callable `V(x, e) -> float` as the core's user potential: `x`
-/// the embedding position (shape `(E,)`), `e` the body frame vectors as rows
-/// (shape `(N, E)`). Each call takes the GIL.
-fn user_potential(py: Python<'_>, callable: Option<Py<PyAny>>) -> PyResult<Option<(UserPotentialFn, ErrorSlot)>> {
-    let Some(callable) = callable else { return Ok(None) };
-    if !callable.bind(py).is_callable() {
-        let tname = callable.bind(py).get_type().name().map(|n| n.to_string()).unwrap_or_default();
-        return Err(err(py, Kind::Invalid, format!("user_potential: a {tname} is not callable; allowed: a callable V(x, e) -> float")));
+/// A user potential from Python: the value and, if the user gave one, the
+/// gradient (else the core differences the value).
+#[derive(Clone)]
+struct UserFns {
+    value: UserPotentialFn,
+    gradient: Option<UserGradientFn>,
+}
+
+/// Builds `scene` with the user potential, if any.
+fn build_scene(scene: &Scene, user: Option<&UserFns>) -> Result<Simulation, SceneError> {
+    match user {
+        None => scene.build(),
+        Some(UserFns { value, gradient: None }) => scene.build_with_user_potential(value.clone()),
+        Some(UserFns { value, gradient: Some(g) }) => scene.build_with_user_potential_and_gradient(value.clone(), g.clone()),
+    }
+}
+
+/// `x` and `e` as numpy arrays: `x` of shape `(E,)`, `e` the body frame
+/// vectors as rows, shape `(N, E)`.
+fn position_and_frame<'py>(py: Python<'py>, x: &[f64], e: &[f64]) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyAny>)> {
+    let xa = PyArray1::from_slice(py, x);
+    let n = if x.is_empty() { 0 } else { e.len() / x.len() };
+    let ea = PyArray1::from_slice(py, e).reshape([n, x.len()])?;
+    Ok((xa, ea.into_any()))
+}
+
+/// Runs `call` with the GIL; its first error goes into `slot` (later calls
+/// return NaN at once, so the run stops at the next step).
+fn with_slot(slot: &ErrorSlot, call: impl FnOnce(Python<'_>) -> PyResult<()>) -> bool {
+    if lock(slot).is_some() {
+        return false;
+    }
+    Python::attach(|py| match call(py) {
+        Ok(()) => true,
+        Err(e) => {
+            lock(slot).get_or_insert(e);
+            false
+        }
+    })
+}
+
+/// `part` of a user gradient's return value as `out.len()` numbers of the
+/// shape `shape`, or a `ValueError` naming `user_gradient` and the shape.
+fn gradient_part(py: Python<'_>, part: &Bound<'_, PyAny>, shape: &[usize], what: &str, out: &mut [f64]) -> PyResult<()> {
+    let bad = |got: String| err(py, Kind::Invalid, format!("user_gradient: {what} has {got}; allowed: an array of shape {shape:?} of finite floats"));
+    let a: PyArrayLikeDyn<'_, f64, AllowTypeChange> = part.extract().map_err(|_| bad("no numeric array form".into()))?;
+    let a = a.as_array();
+    if a.shape() != shape {
+        return Err(bad(format!("shape {:?}", a.shape())));
+    }
+    for (o, v) in out.iter_mut().zip(a.iter()) {
+        *o = *v;
+    }
+    Ok(())
+}
+
+/// The Python callables `V(x, e) -> float` and `G(x, e) -> (∂V/∂x, ∂V/∂e)`
+/// (optional) as the core's user potential: `x` the embedding position
+/// (shape `(E,)`), `e` the body frame vectors as rows (shape `(N, E)`),
+/// `∂V/∂e` in the same shape. Each call takes the GIL.
+fn user_potential(py: Python<'_>, callable: Option<Py<PyAny>>, gradient: Option<Py<PyAny>>) -> PyResult<Option<(UserFns, ErrorSlot)>> {
+    let not_callable = |name: &str, what: &str, c: &Py<PyAny>| -> PyResult<()> {
+        if c.bind(py).is_callable() {
+            return Ok(());
+        }
+        let tname = c.bind(py).get_type().name().map(|n| n.to_string()).unwrap_or_default();
+        Err(err(py, Kind::Invalid, format!("{name}: a {tname} is not callable; allowed: a callable {what}")))
+    };
+    let Some(callable) = callable else {
+        return match gradient {
+            None => Ok(None),
+            Some(_) => Err(err(py, Kind::Invalid, "user_gradient given without user_potential: it is the gradient of the user potential V(x, e), which must be given too")),
+        };
+    };
+    not_callable("user_potential", "V(x, e) -> float", &callable)?;
+    if let Some(g) = &gradient {
+        not_callable("user_gradient", "G(x, e) -> (dV/dx, dV/de)", g)?;
     }
     let slot: ErrorSlot = Arc::new(Mutex::new(None));
-    let slot2 = slot.clone();
-    let f: UserPotentialFn = Arc::new(move |x: &[f64], e: &[f64]| -> f64 {
-        if lock(&slot2).is_some() {
-            return f64::NAN;
-        }
-        Python::attach(|py| {
-            let result = (|| -> PyResult<f64> {
-                let xa = PyArray1::from_slice(py, x);
-                let n = if x.is_empty() { 0 } else { e.len() / x.len() };
-                let ea = PyArray1::from_slice(py, e).reshape([n, x.len()])?;
-                callable.call1(py, (xa, ea))?.extract::<f64>(py)
-            })();
-            match result {
-                Ok(v) => v,
-                Err(e) => {
-                    lock(&slot2).get_or_insert(e);
-                    f64::NAN
+    let s = slot.clone();
+    let value: UserPotentialFn = Arc::new(move |x: &[f64], e: &[f64]| -> f64 {
+        let mut v = f64::NAN;
+        with_slot(&s, |py| {
+            let (xa, ea) = position_and_frame(py, x, e)?;
+            v = callable.call1(py, (xa, ea))?.extract::<f64>(py)?;
+            Ok(())
+        });
+        v
+    });
+    let s = slot.clone();
+    let gradient = gradient.map(|g| -> UserGradientFn {
+        Arc::new(move |x: &[f64], e: &[f64], dx: &mut [f64], de: &mut [f64]| {
+            let ok = with_slot(&s, |py| {
+                let (xa, ea) = position_and_frame(py, x, e)?;
+                let out = g.call1(py, (xa, ea))?;
+                let out = out.bind(py);
+                let bad = || err(py, Kind::Invalid, "user_gradient: must return a pair (dV/dx, dV/de)");
+                if out.len().ok() != Some(2) {
+                    return Err(bad());
                 }
+                let n = if x.is_empty() { 0 } else { e.len() / x.len() };
+                gradient_part(py, &out.get_item(0).map_err(|_| bad())?, &[x.len()], "dV/dx", dx)?;
+                gradient_part(py, &out.get_item(1).map_err(|_| bad())?, &[n, x.len()], "dV/de", de)
+            });
+            if !ok {
+                dx.fill(f64::NAN);
+                de.fill(f64::NAN);
             }
         })
     });
-    Ok(Some((f, slot)))
+    Ok(Some((UserFns { value, gradient }, slot)))
 }
 
 /// A user event from Python, checked: name, `g(t, state) -> float`,
@@ -162,15 +241,12 @@ struct RunOutput {
 /// Builds and runs `scene` (no GIL needed unless a user potential is called).
 fn run_scene(
     scene: &Scene,
-    user: Option<UserPotentialFn>,
+    user: Option<&UserFns>,
     events: Option<(&[PyEvent], &ErrorSlot)>,
     cancel: &AtomicBool,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<RunOutput, SceneError> {
-    let mut sim = match user {
-        None => scene.build()?,
-        Some(f) => scene.build_with_user_potential(f)?,
-    };
+    let mut sim = build_scene(scene, user)?;
     if let Some((evs, slot)) = events {
         let names = sim.event_columns().iter().map(|c| c.name.clone()).collect();
         for e in user_events(evs, names, slot) {
@@ -267,14 +343,15 @@ fn finish<'py>(py: Python<'py>, out: Result<Result<RunOutput, SceneError>, Strin
 /// "summary"}`. Ctrl-C (SIGINT) is noticed within about 50 ms: the run stops
 /// and `KeyboardInterrupt` is raised.
 #[pyfunction]
-#[pyo3(signature = (scene, user_potential = None, events = None))]
+#[pyo3(signature = (scene, user_potential = None, events = None, user_gradient = None))]
 pub fn run<'py>(
     py: Python<'py>,
     scene: PyRef<'py, PyScene>,
     user_potential: Option<Py<PyAny>>,
     events: Option<Vec<(String, Py<PyAny>, String, bool)>>,
+    user_gradient: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let user = self::user_potential(py, user_potential)?;
+    let user = self::user_potential(py, user_potential, user_gradient)?;
     let events = check_events(py, events)?;
     let (f, slot) = match user {
         Some((f, s)) => (Some(f), Some(s)),
@@ -295,7 +372,7 @@ pub fn run<'py>(
                 }
             };
             let ev = slot.as_ref().filter(|_| !events.is_empty()).map(|s| (events.as_slice(), s));
-            run_scene(&scene, f, ev, &cancel, &mut progress)
+            run_scene(&scene, f.as_ref(), ev, &cancel, &mut progress)
         })
     });
     if let Some(e) = interrupt {
@@ -309,17 +386,18 @@ pub fn run<'py>(
 /// raised: the Python wrapper decides). `threads`: size of the thread pool
 /// (default: rayon's global pool, one thread per core).
 #[pyfunction]
-#[pyo3(signature = (scenes, user_potential = None, threads = None))]
+#[pyo3(signature = (scenes, user_potential = None, threads = None, user_gradient = None))]
 pub fn run_batch<'py>(
     py: Python<'py>,
     scenes: Vec<PyRef<'py, PyScene>>,
     user_potential: Option<Py<PyAny>>,
     threads: Option<usize>,
+    user_gradient: Option<Py<PyAny>>,
 ) -> PyResult<Vec<Py<PyAny>>> {
     if threads == Some(0) {
         return Err(err(py, Kind::Invalid, "threads = 0: must be ≥ 1 (or None for one per core)"));
     }
-    let user = self::user_potential(py, user_potential)?;
+    let user = self::user_potential(py, user_potential, user_gradient)?;
     let scenes: Vec<Scene> = scenes.iter().map(|s| s.inner.clone()).collect();
     let f = user.as_ref().map(|(f, _)| f.clone());
     let pool = match threads {
@@ -335,7 +413,7 @@ pub fn run_batch<'py>(
         let work = || {
             scenes
                 .par_iter()
-                .map(|s| guard(|| run_scene(s, f.clone(), None, &AtomicBool::new(false), &mut |_| {})))
+                .map(|s| guard(|| run_scene(s, f.as_ref(), None, &AtomicBool::new(false), &mut |_| {})))
                 .collect::<Vec<_>>()
         };
         match &pool {
@@ -378,23 +456,18 @@ impl PyStepper {
 
 #[pymethods]
 impl PyStepper {
-    /// Builds `scene` (with an optional Python user potential `V(x, e)`) at
-    /// its initial state.
+    /// Builds `scene` (with an optional Python user potential `V(x, e)` and
+    /// its optional gradient `G(x, e)`) at its initial state.
     #[new]
-    #[pyo3(signature = (scene, user_potential = None))]
-    fn new(py: Python<'_>, scene: PyRef<'_, PyScene>, user_potential: Option<Py<PyAny>>) -> PyResult<Self> {
-        let user = self::user_potential(py, user_potential)?;
+    #[pyo3(signature = (scene, user_potential = None, user_gradient = None))]
+    fn new(py: Python<'_>, scene: PyRef<'_, PyScene>, user_potential: Option<Py<PyAny>>, user_gradient: Option<Py<PyAny>>) -> PyResult<Self> {
+        let user = self::user_potential(py, user_potential, user_gradient)?;
         let scene = scene.inner.clone();
         let (f, slot) = match user {
             Some((f, s)) => (Some(f), Some(s)),
             None => (None, None),
         };
-        let built = py.detach(|| {
-            guard(|| match f {
-                None => scene.build(),
-                Some(f) => scene.build_with_user_potential(f),
-            })
-        });
+        let built = py.detach(|| guard(|| build_scene(&scene, f.as_ref())));
         let sim = match built {
             Err(panic) => return Err(internal(py, panic)),
             Ok(Err(e)) => {

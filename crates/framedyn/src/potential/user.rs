@@ -231,36 +231,105 @@ where
     }
 
     fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, metric: &SMatrix<f64, E, E>) -> D {
-        let xr = x.map(|v| v.re());
-        let er = e.map(|v| v.re());
-        match D::NDERIV {
-            0 => D::from((self.f)(&xr, &er, metric)),
-            1 => {
-                let (g, _) = self.gradient_with_error(&xr, &er, metric);
-                let mut out = D::from(g.value);
-                for i in 0..E {
-                    out += (x[i] - D::from(xr[i])) * g.dx[i];
-                }
-                if self.uses_frame {
-                    for k in 0..E * N {
-                        out += (e[k] - D::from(er[k])) * g.de[k];
-                    }
-                }
-                out
-            }
-            _ => {
-                // NaN in every part: squares of the inputs have non-zero first
-                // and second derivative parts, which NaN then poisons.
-                let mut out = D::from(f64::NAN);
-                for v in x.iter().chain(e.iter()) {
-                    out += *v * *v * f64::NAN;
-                }
-                out
-            }
-        }
+        first_order(x, e, self.uses_frame, |xr, er| (self.f)(xr, er, metric), |xr, er| self.gradient_with_error(xr, er, metric).0)
     }
 
     fn gradient(&self, x: &SVector<f64, E>, e: &SMatrix<f64, E, N>, metric: &SMatrix<f64, E, E>) -> Gradient<N, E> {
         self.gradient_with_error(x, e, metric).0
+    }
+}
+
+/// `V` of an `f64`-only potential at dual-number arguments: the value
+/// (`NDERIV = 0`), the first-order expansion `V + ∂V·(δx, δe)` with the
+/// gradient `grad` (`NDERIV = 1`: what [`autodiff_gradient`](super::autodiff_gradient)
+/// and sums differentiated as a whole use), NaN in every part for second
+/// derivatives, which such a potential does not have.
+fn first_order<D: Scalar, const N: usize, const E: usize>(
+    x: &SVector<D, E>,
+    e: &SMatrix<D, E, N>,
+    uses_frame: bool,
+    value: impl FnOnce(&SVector<f64, E>, &SMatrix<f64, E, N>) -> f64,
+    grad: impl FnOnce(&SVector<f64, E>, &SMatrix<f64, E, N>) -> Gradient<N, E>,
+) -> D {
+    let xr = x.map(|v| v.re());
+    let er = e.map(|v| v.re());
+    match D::NDERIV {
+        0 => D::from(value(&xr, &er)),
+        1 => {
+            let g = grad(&xr, &er);
+            let mut out = D::from(g.value);
+            for i in 0..E {
+                out += (x[i] - D::from(xr[i])) * g.dx[i];
+            }
+            if uses_frame {
+                for k in 0..E * N {
+                    out += (e[k] - D::from(er[k])) * g.de[k];
+                }
+            }
+            out
+        }
+        _ => {
+            // NaN in every part: squares of the inputs have non-zero first
+            // and second derivative parts, which NaN then poisons.
+            let mut out = D::from(f64::NAN);
+            for v in x.iter().chain(e.iter()) {
+                out += *v * *v * f64::NAN;
+            }
+            out
+        }
+    }
+}
+
+/// A potential `V(x, e)` given as an `f64` closure `f(x, e, metric)` together
+/// with its gradient `grad(x, e, metric) = (∂V/∂x, ∂V/∂e)` supplied by the
+/// user (partial derivatives in the ambient components, column `A` of
+/// `∂V/∂e` for `e_A`; the metric is not applied). No differencing: one call
+/// of each closure per evaluation, and the gradient is exactly what the user
+/// wrote — a wrong one is not detected here (compare it once with
+/// [`FnPotential::gradient_with_error`], or watch the energy drift).
+///
+/// Dual numbers as for [`FnPotential`]: first-order expansions with the
+/// supplied gradient, NaN for second derivatives.
+pub struct GradFnPotential<F, G, const N: usize, const E: usize> {
+    f: F,
+    grad: G,
+    uses_frame: bool,
+}
+
+impl<F, G, const N: usize, const E: usize> fmt::Debug for GradFnPotential<F, G, N, E> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("GradFnPotential").field("uses_frame", &self.uses_frame).finish_non_exhaustive()
+    }
+}
+
+impl<F, G, const N: usize, const E: usize> GradFnPotential<F, G, N, E>
+where
+    F: Fn(&SVector<f64, E>, &SMatrix<f64, E, N>, &SMatrix<f64, E, E>) -> f64 + Send + Sync,
+    G: Fn(&SVector<f64, E>, &SMatrix<f64, E, N>, &SMatrix<f64, E, E>) -> (SVector<f64, E>, SMatrix<f64, E, N>) + Send + Sync,
+{
+    /// `V = f(x, e, metric)` with `(∂V/∂x, ∂V/∂e) = grad(x, e, metric)`.
+    /// `uses_frame = false`: `∂V/∂e` is taken as zero whatever `grad`
+    /// returns for it.
+    pub fn new(f: F, grad: G, uses_frame: bool) -> Self {
+        GradFnPotential { f, grad, uses_frame }
+    }
+}
+
+impl<F, G, const N: usize, const E: usize> Potential<N, E> for GradFnPotential<F, G, N, E>
+where
+    F: Fn(&SVector<f64, E>, &SMatrix<f64, E, N>, &SMatrix<f64, E, E>) -> f64 + Send + Sync,
+    G: Fn(&SVector<f64, E>, &SMatrix<f64, E, N>, &SMatrix<f64, E, E>) -> (SVector<f64, E>, SMatrix<f64, E, N>) + Send + Sync,
+{
+    fn uses_frame(&self) -> bool {
+        self.uses_frame
+    }
+
+    fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, metric: &SMatrix<f64, E, E>) -> D {
+        first_order(x, e, self.uses_frame, |xr, er| (self.f)(xr, er, metric), |xr, er| self.gradient(xr, er, metric))
+    }
+
+    fn gradient(&self, x: &SVector<f64, E>, e: &SMatrix<f64, E, N>, metric: &SMatrix<f64, E, E>) -> Gradient<N, E> {
+        let (dx, de) = (self.grad)(x, e, metric);
+        Gradient { value: (self.f)(x, e, metric), dx, de: if self.uses_frame { de } else { SMatrix::zeros() } }
     }
 }

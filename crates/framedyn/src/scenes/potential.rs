@@ -9,7 +9,7 @@ use nalgebra::{SMatrix, SVector};
 use serde::{Deserialize, Serialize};
 
 use crate::potential::{
-    Central, CosineFamily, Elastic, FnPotential, Gradient, InvariantPotential, Kepler, NeoHookean, Oscillator,
+    Central, CosineFamily, Elastic, FnPotential, GradFnPotential, Gradient, InvariantPotential, Kepler, NeoHookean, Oscillator,
     Potential, RadialFunction, Scalar, Separable, SeparableFunctions, StVenantKirchhoff,
 };
 
@@ -86,30 +86,85 @@ impl SeparableFunctions for SeparableSeries {
 
 /// A potential given as a closure of the embedding position `x` (`E`
 /// numbers) and the body frame (`E·N` numbers, column-major: the frame
-/// vectors one after the other). Its gradient is taken by Ridders-extrapolated
-/// central differences ([`FnPotential`]), much slower than the built-ins.
+/// vectors one after the other). Without a [`UserGradientFn`] its gradient is
+/// taken by Ridders-extrapolated central differences ([`FnPotential`]), much
+/// slower than the built-ins.
 pub type UserPotentialFn = Arc<dyn Fn(&[f64], &[f64]) -> f64 + Send + Sync>;
+
+/// The gradient of a user potential, supplied by the user:
+/// `grad(x, e, dx, de)` writes `∂V/∂xⁱ` into `dx` (`E` numbers) and
+/// `∂V/∂e` into `de` (`E·N` numbers, the same layout as `e`; ignored for
+/// potentials that do not use the frame). Partial derivatives in the
+/// ambient components, the metric not applied ([`GradFnPotential`]).
+pub type UserGradientFn = Arc<dyn Fn(&[f64], &[f64], &mut [f64], &mut [f64]) + Send + Sync>;
 
 type UserClosure<const N: usize, const E: usize> =
     Box<dyn Fn(&SVector<f64, E>, &SMatrix<f64, E, N>, &SMatrix<f64, E, E>) -> f64 + Send + Sync>;
+type UserGradClosure<const N: usize, const E: usize> =
+    Box<dyn Fn(&SVector<f64, E>, &SMatrix<f64, E, N>, &SMatrix<f64, E, E>) -> (SVector<f64, E>, SMatrix<f64, E, N>) + Send + Sync>;
 
-/// A user potential ([`UserPotentialFn`]) wrapped as a [`Potential`].
+/// The two ways a user potential is differentiated.
+enum UserKind<const N: usize, const E: usize> {
+    /// Finite differences of the value closure.
+    Differenced(FnPotential<UserClosure<N, E>, N, E>),
+    /// The user's own gradient.
+    Supplied(GradFnPotential<UserClosure<N, E>, UserGradClosure<N, E>, N, E>),
+}
+
+/// A user potential ([`UserPotentialFn`], optionally with its
+/// [`UserGradientFn`]) wrapped as a [`Potential`].
 #[derive(Clone)]
-pub struct UserPotential<const N: usize, const E: usize>(Arc<FnPotential<UserClosure<N, E>, N, E>>);
+pub struct UserPotential<const N: usize, const E: usize>(Arc<UserKind<N, E>>);
 
 impl<const N: usize, const E: usize> fmt::Debug for UserPotential<N, E> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str("UserPotential")
+        f.write_str(match &*self.0 {
+            UserKind::Differenced(_) => "UserPotential(differenced gradient)",
+            UserKind::Supplied(_) => "UserPotential(supplied gradient)",
+        })
     }
 }
 
 impl<const N: usize, const E: usize> UserPotential<N, E> {
-    /// `V = f(x, e)`; `length_scale` is the length over which `V` varies
-    /// (the manifold's radius), used for the first difference step.
-    pub fn new(f: UserPotentialFn, uses_frame: bool, length_scale: f64) -> crate::Result<Self> {
-        let closure: UserClosure<N, E> =
-            Box::new(move |x: &SVector<f64, E>, e: &SMatrix<f64, E, N>, _g: &SMatrix<f64, E, E>| f(x.as_slice(), e.as_slice()));
-        Ok(UserPotential(Arc::new(FnPotential::new(closure, uses_frame, length_scale)?)))
+    /// `V = f(x, e)`, with the gradient `grad` if given, else by finite
+    /// differences; `length_scale` is the length over which `V` varies (the
+    /// manifold's radius), used for the first difference step (and checked
+    /// to be finite and > 0 only then).
+    pub fn new(f: UserPotentialFn, grad: Option<UserGradientFn>, uses_frame: bool, length_scale: f64) -> crate::Result<Self> {
+        let value = move |x: &SVector<f64, E>, e: &SMatrix<f64, E, N>, _g: &SMatrix<f64, E, E>| f(x.as_slice(), e.as_slice());
+        let closure: UserClosure<N, E> = Box::new(value);
+        Ok(UserPotential(Arc::new(match grad {
+            None => UserKind::Differenced(FnPotential::new(closure, uses_frame, length_scale)?),
+            Some(grad) => {
+                let g: UserGradClosure<N, E> = Box::new(move |x: &SVector<f64, E>, e: &SMatrix<f64, E, N>, _g: &SMatrix<f64, E, E>| {
+                    let (mut dx, mut de) = (SVector::<f64, E>::zeros(), SMatrix::<f64, E, N>::zeros());
+                    grad(x.as_slice(), e.as_slice(), dx.as_mut_slice(), de.as_mut_slice());
+                    (dx, de)
+                });
+                UserKind::Supplied(GradFnPotential::new(closure, g, uses_frame))
+            }
+        })))
+    }
+}
+
+impl<const N: usize, const E: usize> Potential<N, E> for UserPotential<N, E> {
+    fn uses_frame(&self) -> bool {
+        match &*self.0 {
+            UserKind::Differenced(p) => p.uses_frame(),
+            UserKind::Supplied(p) => p.uses_frame(),
+        }
+    }
+    fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, g: &SMatrix<f64, E, E>) -> D {
+        match &*self.0 {
+            UserKind::Differenced(p) => p.value(x, e, g),
+            UserKind::Supplied(p) => p.value(x, e, g),
+        }
+    }
+    fn gradient(&self, x: &SVector<f64, E>, e: &SMatrix<f64, E, N>, g: &SMatrix<f64, E, E>) -> Gradient<N, E> {
+        match &*self.0 {
+            UserKind::Differenced(p) => p.gradient(x, e, g),
+            UserKind::Supplied(p) => p.gradient(x, e, g),
+        }
     }
 }
 
@@ -132,7 +187,7 @@ macro_rules! scene_potential {
                 match self {
                     $name::Free => false,
                     $($name::$var(p) => Potential::<$n, $e>::uses_frame(p),)*
-                    $name::User(p) => Potential::<$n, $e>::uses_frame(&*p.0),
+                    $name::User(p) => Potential::<$n, $e>::uses_frame(p),
                     $name::Sum(terms) => terms.iter().any(|(_, p)| p.uses_frame()),
                 }
             }
@@ -141,7 +196,7 @@ macro_rules! scene_potential {
                 match self {
                     $name::Free => D::from(0.0),
                     $($name::$var(p) => Potential::<$n, $e>::value(p, x, e, g),)*
-                    $name::User(p) => Potential::<$n, $e>::value(&*p.0, x, e, g),
+                    $name::User(p) => Potential::<$n, $e>::value(p, x, e, g),
                     $name::Sum(terms) => {
                         let mut s = D::from(0.0);
                         for (c, p) in terms {
@@ -156,7 +211,7 @@ macro_rules! scene_potential {
                 match self {
                     $name::Free => Gradient { value: 0.0, dx: SVector::zeros(), de: SMatrix::zeros() },
                     $($name::$var(p) => Potential::<$n, $e>::gradient(p, x, e, g),)*
-                    $name::User(p) => Potential::<$n, $e>::gradient(&*p.0, x, e, g),
+                    $name::User(p) => Potential::<$n, $e>::gradient(p, x, e, g),
                     $name::Sum(terms) => {
                         let mut out = Gradient { value: 0.0, dx: SVector::zeros(), de: SMatrix::zeros() };
                         for (c, p) in terms {
