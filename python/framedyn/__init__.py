@@ -96,7 +96,12 @@ class Event:
     stops the run and is re-raised by :func:`solve`.
     """
 
-    __slots__ = ("f", "name", "direction", "terminal")
+    __slots__ = {
+        "f": "The event function ``f(t, state) -> float`` whose zeros are located.",
+        "name": "The event's name (``None``: ``user<i>`` by position).",
+        "direction": "Which crossings count: ``'rising'``, ``'falling'`` or ``'either'``.",
+        "terminal": "Whether the first crossing stops the run.",
+    }
 
     def __init__(self, f: EventFunction, name: Optional[str] = None, *, direction: str = "either", terminal: bool = False) -> None:
         if not callable(f):
