@@ -293,14 +293,10 @@ fn benches(c: &mut Criterion) {
 // Interleaved ratio table
 // ---------------------------------------------------------------------------
 
-/// Thread-CPU nanoseconds (`CLOCK_THREAD_CPUTIME_ID`): time the thread was
-/// descheduled by other processes on the shared machine is not counted.
+/// Thread-CPU nanoseconds ([`thread_time`]): time the thread was descheduled
+/// by other processes on the shared machine is not counted.
 fn thread_ns() -> f64 {
-    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
-    // SAFETY: clock_gettime writes one timespec through a valid pointer.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    assert_eq!(rc, 0, "clock_gettime failed");
-    ts.tv_sec as f64 * 1e9 + ts.tv_nsec as f64
+    thread_time() * 1e9
 }
 
 /// Thread-CPU nanoseconds per call of `f` over `n` calls (the rounds are

@@ -46,15 +46,6 @@ use framedyn::potential::{Centre, CosineFamily};
 use framedyn::solve::{solve, Options, Save, Stepper};
 use nalgebra::{SVector, Vector3};
 
-/// Thread-CPU seconds (`CLOCK_THREAD_CPUTIME_ID`, as Python's `time.thread_time()`).
-fn thread_time() -> f64 {
-    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
-    // SAFETY: clock_gettime writes one timespec through a valid pointer.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
-    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
-}
-
 /// Command-line options.
 struct Args {
     out: String,

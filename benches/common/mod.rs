@@ -75,6 +75,18 @@ where
     }
 }
 
+/// Thread-CPU seconds (`CLOCK_THREAD_CPUTIME_ID`, as Python's
+/// `time.thread_time()`): time the thread was descheduled by other processes
+/// on the shared machine is not counted. Shared by the benches and the
+/// timing examples.
+pub fn thread_time() -> f64 {
+    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: clock_gettime writes one timespec through a valid pointer.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
+    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
+}
+
 /// Max-norm distance of two observables.
 pub fn obs_dist(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
