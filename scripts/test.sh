@@ -33,6 +33,8 @@ export PYO3_ENVIRONMENT_SIGNATURE
 
 cargo test --workspace --all-targets
 cargo test --workspace --doc
+# The API docs build without warnings (broken intra-doc links, missing docs).
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 # The examples compare what they measure with the paper's closed forms and
 # exit with status 1 on a mismatch.
 for example in transport_through_pole s2_bodies h2_bodies t2_bodies s3_bodies potential_families user_potential; do
