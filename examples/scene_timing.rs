@@ -18,45 +18,19 @@
 //! row-major values) for checking that Python produced the same numbers.
 //!
 //! Sinks: `memory` is the public [`MemorySink`] (one `Vec` per record: what
-//! a Rust user writes); `flat` is a copy of the Python module's sink (one
-//! row-major buffer that becomes the numpy array; `crates/framedyn-py/src/run.rs`),
-//! which isolates the cost of the binding itself. `both` alternates them.
+//! a Rust user writes); `flat` is [`FlatSink`], the Python module's sink (one
+//! row-major buffer that becomes the numpy array), which isolates the cost
+//! of the binding itself. `both` alternates them.
 
 // The shared thread-CPU clock of the benches and timing examples.
 #[path = "../benches/common/mod.rs"]
 mod common;
 
-use std::io;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use common::thread_time;
-use framedyn::scenes::{Column, EventHit, MemorySink, RecordSink, RunSummary, Scene, SceneStop};
-
-/// The Python module's sink (`FlatSink` in `crates/framedyn-py/src/run.rs`).
-#[derive(Default)]
-struct FlatSink {
-    columns: Vec<Column>,
-    data: Vec<f64>,
-    rows: usize,
-    events: Vec<EventHit>,
-}
-
-impl RecordSink for FlatSink {
-    fn columns(&mut self, columns: &[Column]) -> io::Result<()> {
-        self.columns = columns.to_vec();
-        Ok(())
-    }
-    fn record(&mut self, row: &[f64]) -> io::Result<()> {
-        self.data.extend_from_slice(row);
-        self.rows += 1;
-        Ok(())
-    }
-    fn event(&mut self, hit: &EventHit) -> io::Result<()> {
-        self.events.push(hit.clone());
-        Ok(())
-    }
-}
+use framedyn::scenes::{FlatSink, MemorySink, RecordSink, RunSummary, Scene, SceneStop};
 
 /// Σ bits(xᵢ)·(2i+1) mod 2⁶⁴ over the row-major values (the script
 /// computes the same over `Solution.data`).

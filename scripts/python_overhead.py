@@ -23,8 +23,8 @@ Steps:
 3. (a) The scene `scripts/data/overhead_scene.toml` (S² gyroscope through
    the pole, RK4, exactly 1e5 steps, one record per step, every column
    group: 100,001 x 22 values) is run from Rust (the example, which clones,
-   builds and runs the scene into a `MemorySink`, and into a copy of the
-   Python module's flat sink) and from Python (`fd.solve(scene)`, which runs
+   builds and runs the scene into a `MemorySink`, and into the
+   Python module's `FlatSink`) and from Python (`fd.solve(scene)`, which runs
    the same engine with the GIL released on the calling thread and hands
    the flat buffer to numpy without a copy), interleaved in rounds with the
    order alternating. Per round, each side keeps the minimum of `--repeats`

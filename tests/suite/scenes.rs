@@ -270,6 +270,24 @@ fn user_potential_matches_builtin() {
     assert!(err > 1e-5, "a 1% wrong gradient changed x2 by only {err:e}");
 }
 
+/// The flat sink (the Python module's) holds exactly the records and events
+/// of the memory sink.
+#[test]
+fn flat_sink_holds_what_the_memory_sink_holds() {
+    let scene = example("s2-gyroscope-pole").unwrap();
+    let (_, memory) = run(&scene);
+    let mut flat = framedyn::scenes::FlatSink::default();
+    scene.build().unwrap().run(&mut flat, &AtomicBool::new(false), &mut |_| {}).unwrap();
+    assert_eq!(flat.columns, memory.columns);
+    assert_eq!(flat.rows, memory.rows.len());
+    assert_eq!(flat.events, memory.events);
+    for (i, r) in memory.rows.iter().enumerate() {
+        assert_eq!(flat.row(i), r.as_slice());
+    }
+    assert_eq!(flat.column("x2"), memory.column("x2"));
+    assert_eq!(flat.column("nope"), None);
+}
+
 /// JSON and TOML describe the same scene.
 #[test]
 fn json_round_trip() {

@@ -2,12 +2,11 @@
 //! always with the GIL released. Records arrive as one row-major `f64`
 //! buffer that becomes a numpy array without a copy.
 
-use std::io;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use framedyn::scenes::{
-    Column, EventDirection, EventFn, EventHit, Progress, RecordSink, RunError, RunSummary, Scene, SceneError, SceneEvent, SceneStop, Simulation,
+    EventDirection, EventFn, FlatSink, Progress, RunError, RunSummary, Scene, SceneError, SceneEvent, SceneStop, Simulation,
     UserGradientFn, UserPotentialFn,
 };
 use numpy::{AllowTypeChange, PyArray1, PyArrayLikeDyn, PyArrayMethods};
@@ -17,31 +16,6 @@ use rayon::prelude::*;
 
 use crate::errors::{err, guard, internal, run_err, scene_err, solve_err, Kind};
 use crate::scene::PyScene;
-
-/// A sink keeping every record in one row-major buffer.
-#[derive(Default)]
-struct FlatSink {
-    columns: Vec<Column>,
-    data: Vec<f64>,
-    rows: usize,
-    events: Vec<EventHit>,
-}
-
-impl RecordSink for FlatSink {
-    fn columns(&mut self, columns: &[Column]) -> io::Result<()> {
-        self.columns = columns.to_vec();
-        Ok(())
-    }
-    fn record(&mut self, row: &[f64]) -> io::Result<()> {
-        self.data.extend_from_slice(row);
-        self.rows += 1;
-        Ok(())
-    }
-    fn event(&mut self, hit: &EventHit) -> io::Result<()> {
-        self.events.push(hit.clone());
-        Ok(())
-    }
-}
 
 /// The first Python exception raised by a user potential (later calls
 /// return NaN at once, so the run stops at the next step).

@@ -273,6 +273,52 @@ impl RecordSink for MemorySink {
     }
 }
 
+/// A sink that keeps every record in one row-major buffer (`rows × columns`
+/// values): one growing allocation instead of [`MemorySink`]'s one per
+/// record, and the layout numpy takes without a copy (the Python module
+/// returns it as `Solution.data`).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FlatSink {
+    /// The columns.
+    pub columns: Vec<Column>,
+    /// The records, row-major: record `i` is `data[i·ncols .. (i+1)·ncols]`.
+    pub data: Vec<f64>,
+    /// The number of records.
+    pub rows: usize,
+    /// The located events.
+    pub events: Vec<EventHit>,
+}
+
+impl FlatSink {
+    /// Record `i`.
+    pub fn row(&self, i: usize) -> &[f64] {
+        let n = self.columns.len();
+        &self.data[i * n..(i + 1) * n]
+    }
+
+    /// The values of the column `name`, if present.
+    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
+        let j = self.columns.iter().position(|c| c.name == name)?;
+        Some(self.data.iter().skip(j).step_by(self.columns.len()).copied().collect())
+    }
+}
+
+impl RecordSink for FlatSink {
+    fn columns(&mut self, columns: &[Column]) -> io::Result<()> {
+        self.columns = columns.to_vec();
+        Ok(())
+    }
+    fn record(&mut self, row: &[f64]) -> io::Result<()> {
+        self.data.extend_from_slice(row);
+        self.rows += 1;
+        Ok(())
+    }
+    fn event(&mut self, hit: &EventHit) -> io::Result<()> {
+        self.events.push(hit.clone());
+        Ok(())
+    }
+}
+
 /// A progress report during a run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Progress {
