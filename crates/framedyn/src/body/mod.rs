@@ -58,6 +58,14 @@ pub struct Point {
 
 impl Point {
     /// A point of mass `mass` (finite, > 0).
+    ///
+    /// ```
+    /// use framedyn::body::Point;
+    ///
+    /// assert_eq!(Point::new(2.0)?.mass(), 2.0);
+    /// assert!(matches!(Point::new(0.0), Err(framedyn::Error::InvalidParameter { field: "mass", .. })));
+    /// # Ok::<(), framedyn::Error>(())
+    /// ```
     pub fn new(mass: f64) -> Result<Self> {
         Ok(Self { mass: positive("mass", mass)? })
     }
@@ -90,6 +98,19 @@ pub struct Gyroscope<const N: usize> {
 impl<const N: usize> Gyroscope<N> {
     /// A gyroscope of mass `mass` (finite, > 0) and inertia `inertia`
     /// (symmetric positive definite).
+    ///
+    /// ```
+    /// use framedyn::body::Gyroscope;
+    /// use nalgebra::Matrix3;
+    ///
+    /// // An anisotropic top for S³ (n = 3).
+    /// let top = Gyroscope::<3>::new(1.0, Matrix3::from_diagonal(&[0.2, 0.35, 0.5].into()))?;
+    /// assert_eq!(top.inertia()[(2, 2)], 0.5);
+    /// // Not positive definite: a typed error naming J and the constraint.
+    /// let err = Gyroscope::<3>::new(1.0, Matrix3::from_diagonal(&[0.2, -0.1, 0.5].into())).unwrap_err();
+    /// assert!(matches!(err, framedyn::Error::Constraint { field: "J", .. }));
+    /// # Ok::<(), framedyn::Error>(())
+    /// ```
     pub fn new(mass: f64, inertia: SMatrix<f64, N, N>) -> Result<Self> {
         Ok(Self { mass: positive("mass", mass)?, inertia: check_inertia(&inertia)?, signature: Signature::Riemannian })
     }

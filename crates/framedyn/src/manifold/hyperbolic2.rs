@@ -55,6 +55,18 @@ impl Hyperbolic2 {
     ///
     /// Errors: [`Error::InvalidParameter`] with field `"R"` unless `radius` is
     /// finite and positive.
+    ///
+    /// ```
+    /// use framedyn::manifold::{Hyperbolic2, Manifold};
+    /// use nalgebra::Vector2;
+    ///
+    /// let h2 = Hyperbolic2::new(1.5)?;
+    /// // The upper sheet of x₀² + x₁² − x₂² = −R² in Minkowski ℝ^{2,1}.
+    /// let x = h2.embed(&Vector2::new(0.7, 0.3));
+    /// assert!((x[0] * x[0] + x[1] * x[1] - x[2] * x[2] + 1.5 * 1.5).abs() < 1e-13 && x[2] > 0.0);
+    /// assert!(matches!(Hyperbolic2::new(f64::NAN), Err(framedyn::Error::InvalidParameter { field: "R", .. })));
+    /// # Ok::<(), framedyn::Error>(())
+    /// ```
     pub fn new(radius: f64) -> Result<Self> {
         Ok(Hyperbolic2 { radius: positive("R", radius)? })
     }

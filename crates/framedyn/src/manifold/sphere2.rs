@@ -48,6 +48,18 @@ impl Sphere2 {
     pub const POINT_TOLERANCE: f64 = 1e-9;
 
     /// The sphere of radius `radius`; fails unless `radius` is finite and > 0.
+    ///
+    /// ```
+    /// use framedyn::manifold::{Manifold, Sphere2};
+    /// use nalgebra::Vector2;
+    ///
+    /// let s2 = Sphere2::new(2.0)?;
+    /// let x = s2.embed(&Vector2::new(std::f64::consts::PI, 0.0)); // (r, φ): r = πR/2, the equator
+    /// assert!((x.norm() - 2.0).abs() < 1e-15 && x[2].abs() < 1e-15);
+    /// let err = Sphere2::new(-1.0).unwrap_err();
+    /// assert!(err.to_string().contains("R") && err.to_string().contains("> 0"));
+    /// # Ok::<(), framedyn::Error>(())
+    /// ```
     pub fn new(radius: f64) -> Result<Self> {
         Ok(Sphere2 { r: crate::error::positive("R", radius)? })
     }

@@ -129,6 +129,17 @@ fn levi_civita(a: usize, b: usize, c: usize) -> f64 {
 
 impl Sphere3 {
     /// S³ of radius `radius` (finite and > 0, else [`Error::InvalidParameter`]).
+    ///
+    /// ```
+    /// use framedyn::manifold::{Manifold, Sphere3};
+    /// use nalgebra::Vector3;
+    ///
+    /// let s3 = Sphere3::new(1.0)?;
+    /// let x = s3.embed(&Vector3::new(0.3, -0.2, 0.5)); // rotation-vector chart r̄
+    /// assert!((x.norm() - 1.0).abs() < 1e-15);
+    /// assert!(Sphere3::new(0.0).is_err());
+    /// # Ok::<(), framedyn::Error>(())
+    /// ```
     pub fn new(radius: f64) -> Result<Self> {
         Ok(Sphere3 { radius: positive("R", radius)? })
     }

@@ -87,6 +87,16 @@ impl Torus2 {
     /// The torus with tube-centre distance `big_l` (`L`) and tube radius
     /// `small_r` (`R`). Errors: [`Error::InvalidParameter`] for `R` unless finite
     /// and `> 0`, for `L` unless finite and `> R`.
+    ///
+    /// ```
+    /// use framedyn::manifold::Torus2;
+    ///
+    /// let t2 = Torus2::new(2.0, 0.7)?;
+    /// assert_eq!((t2.big_l(), t2.small_r()), (2.0, 0.7));
+    /// // L ≤ R would self-intersect: a typed error naming L.
+    /// assert!(matches!(Torus2::new(0.5, 0.7), Err(framedyn::Error::InvalidParameter { field: "L", .. })));
+    /// # Ok::<(), framedyn::Error>(())
+    /// ```
     pub fn new(big_l: f64, small_r: f64) -> Result<Self> {
         let small_r = positive("R", small_r)?;
         if !(big_l.is_finite() && big_l > small_r) {

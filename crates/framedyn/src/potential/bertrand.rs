@@ -42,6 +42,21 @@ impl<const E: usize> Oscillator<E> {
     /// The oscillator of strength `kappa` about `centre`. Fails with
     /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) (field
     /// `"kappa"`) unless `kappa` is finite and > 0.
+    ///
+    /// ```
+    /// use framedyn::manifold::Sphere2;
+    /// use framedyn::potential::{Centre, Oscillator, Potential};
+    /// use nalgebra::{SMatrix, Vector3};
+    ///
+    /// let s2 = Sphere2::new(1.0)?;
+    /// let v = Oscillator::new(2.0, Centre::sphere2(&s2))?;
+    /// // V = (κ/2) R² tan²(r/R) (b88); at r = π/4: κ/2.
+    /// let x = Vector3::new(0.5f64.sqrt(), 0.0, 0.5f64.sqrt());
+    /// let value: f64 = Potential::<2, 3>::value(&v, &x, &SMatrix::zeros(), &SMatrix::identity());
+    /// assert!((value - 1.0).abs() < 1e-14);
+    /// assert!(Oscillator::new(-1.0, Centre::sphere2(&s2)).is_err());
+    /// # Ok::<(), framedyn::Error>(())
+    /// ```
     pub fn new(kappa: f64, centre: Centre<E>) -> Result<Self> {
         let kappa = positive("kappa", kappa)?;
         let r = centre.radius();

@@ -50,6 +50,30 @@ where
     S::State: GroupNumerics,
 {
     /// The problem `ẏ = y·f(t, y)` of `system` from `y0` over `span = (t₀, t_end)`.
+    /// Fails with [`SolveError`] for a non-finite or empty span or a
+    /// non-finite initial state.
+    ///
+    /// ```
+    /// use framedyn::body::Point;
+    /// use framedyn::dynamics::{PointModel, System};
+    /// use framedyn::manifold::{Manifold, Sphere2};
+    /// use framedyn::method::Rkmk;
+    /// use framedyn::potential::Free;
+    /// use framedyn::solve::{solve, Options, Problem};
+    /// use nalgebra::Vector2;
+    ///
+    /// let s2 = Sphere2::new(1.0)?;
+    /// let model = PointModel::new(s2, Point::new(1.0)?, Free)?;
+    /// let x = Vector2::new(1.0, 0.0);
+    /// // (ṙ, φ̇) = (1, 0): unit speed along a meridian, through the south pole.
+    /// let y0 = model.state(&s2.embed(&x), &s2.embed_tangent(&x, &Vector2::new(1.0, 0.0)))?;
+    /// // A free point moves on a great circle with constant speed: period 2πR/|v| = 2π.
+    /// let problem = Problem::new(model.clone(), y0, (0.0, 2.0 * std::f64::consts::PI)).unwrap();
+    /// let sol = solve(&problem, &Rkmk::dopri5(), &Options::adaptive(1e-12, 1e-12)).unwrap();
+    /// assert!((model.position(sol.last().1) - model.position(&y0)).norm() < 1e-9);
+    /// assert!(Problem::new(model, y0, (1.0, f64::NAN)).is_err());
+    /// # Ok::<(), framedyn::Error>(())
+    /// ```
     pub fn new(system: S, y0: S::State, span: (f64, f64)) -> Result<Self, SolveError> {
         check_span(span.0, span.1)?;
         check_state(&y0)?;
