@@ -6,7 +6,7 @@
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
-use framedyn::scenes::{example, MemorySink, RunSummary, Scene, SceneError, SceneStop, UserGradientFn, UserPotentialFn, DEFAULT_SCENE, EXAMPLES};
+use framedyn::scenes::{example, MemorySink, RunSummary, Scene, SceneError, SceneStop, UserFunctions, UserGradientFn, UserPotentialFn, DEFAULT_SCENE, EXAMPLES};
 use proptest::prelude::*;
 
 fn run(scene: &Scene) -> (RunSummary, MemorySink) {
@@ -258,8 +258,8 @@ fn user_potential_matches_builtin() {
         sink
     };
     let differenced = run_user(&mut scene.build_with_user_potential(f.clone()).unwrap());
-    let supplied = run_user(&mut scene.build_with_user_potential_and_gradient(f.clone(), grad(1.0)).unwrap());
-    let wrong = run_user(&mut scene.build_with_user_potential_and_gradient(f, grad(1.01)).unwrap());
+    let supplied = run_user(&mut scene.build_with_user(UserFunctions { value: f.clone(), gradient: Some(grad(1.0)) }).unwrap());
+    let wrong = run_user(&mut scene.build_with_user(UserFunctions { value: f, gradient: Some(grad(1.01)) }).unwrap());
     for c in ["x0", "x1", "x2", "spin", "energy"] {
         let err = max_err(&differenced, c);
         assert!(err < 1e-8, "differenced {c}: {err:e}");

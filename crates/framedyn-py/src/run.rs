@@ -7,7 +7,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use framedyn::scenes::{
     EventDirection, EventFn, FlatSink, Progress, RunError, RunSummary, Scene, SceneError, SceneEvent, SceneStop, Simulation,
-    UserGradientFn, UserPotentialFn,
+    UserFunctions, UserGradientFn, UserPotentialFn,
 };
 use numpy::{AllowTypeChange, PyArray1, PyArrayLikeDyn, PyArrayMethods};
 use pyo3::prelude::*;
@@ -25,20 +25,20 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
-/// A user potential from Python: the value and, if the user gave one, the
-/// gradient (else the core differences the value).
-#[derive(Clone)]
-struct UserFns {
-    value: UserPotentialFn,
-    gradient: Option<UserGradientFn>,
-}
-
 /// Builds `scene` with the user potential, if any.
-fn build_scene(scene: &Scene, user: Option<&UserFns>) -> Result<Simulation, SceneError> {
+fn build_scene(scene: &Scene, user: Option<&UserFunctions>) -> Result<Simulation, SceneError> {
     match user {
         None => scene.build(),
-        Some(UserFns { value, gradient: None }) => scene.build_with_user_potential(value.clone()),
-        Some(UserFns { value, gradient: Some(g) }) => scene.build_with_user_potential_and_gradient(value.clone(), g.clone()),
+        Some(u) => scene.build_with_user(u.clone()),
+    }
+}
+
+/// The number `N` of frame vectors in `e` (`N·E` numbers, `E = x.len()`).
+fn frame_rows(x: &[f64], e: &[f64]) -> usize {
+    if x.is_empty() {
+        0
+    } else {
+        e.len() / x.len()
     }
 }
 
@@ -46,8 +46,7 @@ fn build_scene(scene: &Scene, user: Option<&UserFns>) -> Result<Simulation, Scen
 /// vectors as rows, shape `(N, E)`.
 fn position_and_frame<'py>(py: Python<'py>, x: &[f64], e: &[f64]) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyAny>)> {
     let xa = PyArray1::from_slice(py, x);
-    let n = if x.is_empty() { 0 } else { e.len() / x.len() };
-    let ea = PyArray1::from_slice(py, e).reshape([n, x.len()])?;
+    let ea = PyArray1::from_slice(py, e).reshape([frame_rows(x, e), x.len()])?;
     Ok((xa, ea.into_any()))
 }
 
@@ -85,7 +84,7 @@ fn gradient_part(py: Python<'_>, part: &Bound<'_, PyAny>, shape: &[usize], what:
 /// (optional) as the core's user potential: `x` the embedding position
 /// (shape `(E,)`), `e` the body frame vectors as rows (shape `(N, E)`),
 /// `∂V/∂e` in the same shape. Each call takes the GIL.
-fn user_potential(py: Python<'_>, callable: Option<Py<PyAny>>, gradient: Option<Py<PyAny>>) -> PyResult<Option<(UserFns, ErrorSlot)>> {
+fn user_potential(py: Python<'_>, callable: Option<Py<PyAny>>, gradient: Option<Py<PyAny>>) -> PyResult<Option<(UserFunctions, ErrorSlot)>> {
     let not_callable = |name: &str, what: &str, c: &Py<PyAny>| -> PyResult<()> {
         if c.bind(py).is_callable() {
             return Ok(());
@@ -125,9 +124,8 @@ fn user_potential(py: Python<'_>, callable: Option<Py<PyAny>>, gradient: Option<
                 if out.len().ok() != Some(2) {
                     return Err(bad());
                 }
-                let n = if x.is_empty() { 0 } else { e.len() / x.len() };
                 gradient_part(py, &out.get_item(0).map_err(|_| bad())?, &[x.len()], "dV/dx", dx)?;
-                gradient_part(py, &out.get_item(1).map_err(|_| bad())?, &[n, x.len()], "dV/de", de)
+                gradient_part(py, &out.get_item(1).map_err(|_| bad())?, &[frame_rows(x, e), x.len()], "dV/de", de)
             });
             if !ok {
                 dx.fill(f64::NAN);
@@ -135,7 +133,7 @@ fn user_potential(py: Python<'_>, callable: Option<Py<PyAny>>, gradient: Option<
             }
         })
     });
-    Ok(Some((UserFns { value, gradient }, slot)))
+    Ok(Some((UserFunctions { value, gradient }, slot)))
 }
 
 /// A user event from Python, checked: name, `g(t, state) -> float`,
@@ -215,7 +213,7 @@ struct RunOutput {
 /// Builds and runs `scene` (no GIL needed unless a user potential is called).
 fn run_scene(
     scene: &Scene,
-    user: Option<&UserFns>,
+    user: Option<&UserFunctions>,
     events: Option<(&[PyEvent], &ErrorSlot)>,
     cancel: &AtomicBool,
     progress: &mut dyn FnMut(&Progress),
@@ -373,7 +371,7 @@ pub fn run_batch<'py>(
     }
     let user = self::user_potential(py, user_potential, user_gradient)?;
     let scenes: Vec<Scene> = scenes.iter().map(|s| s.inner.clone()).collect();
-    let f = user.as_ref().map(|(f, _)| f.clone());
+    let f = user.as_ref().map(|(f, _)| f);
     let pool = match threads {
         Some(n) => Some(
             rayon::ThreadPoolBuilder::new()
@@ -387,7 +385,7 @@ pub fn run_batch<'py>(
         let work = || {
             scenes
                 .par_iter()
-                .map(|s| guard(|| run_scene(s, f.as_ref(), None, &AtomicBool::new(false), &mut |_| {})))
+                .map(|s| guard(|| run_scene(s, f, None, &AtomicBool::new(false), &mut |_| {})))
                 .collect::<Vec<_>>()
         };
         match &pool {

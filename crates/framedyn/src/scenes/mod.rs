@@ -116,7 +116,7 @@ pub mod spec;
 
 pub use error::{Location, RunError, SceneError};
 pub use examples::{example, EXAMPLES, DEFAULT_SCENE};
-pub use potential::{Potential2, Potential3, SeparableSeries, Series, UserGradientFn, UserPotential, UserPotentialFn};
+pub use potential::{Potential2, Potential3, SeparableSeries, Series, UserFunctions, UserGradientFn, UserPotential, UserPotentialFn};
 pub use spec::*;
 
 use std::fmt;
@@ -603,15 +603,16 @@ impl Scene {
     /// ([`FnPotential`](crate::potential::FnPotential)): slower than the
     /// built-ins.
     pub fn build_with_user_potential(&self, f: UserPotentialFn) -> Result<Simulation, SceneError> {
-        self.build_inner(Some((f, None))).map_err(|e| self.locate(e))
+        self.build_with_user(UserFunctions { value: f, gradient: None })
     }
 
-    /// [`Self::build_with_user_potential`] with the user's own gradient
-    /// ([`UserGradientFn`]: `∂V/∂x` and `∂V/∂e` in the same layouts as `x`
-    /// and `e`) instead of finite differences: one call of each function
-    /// per evaluation. The gradient is trusted as it is.
-    pub fn build_with_user_potential_and_gradient(&self, f: UserPotentialFn, grad: UserGradientFn) -> Result<Simulation, SceneError> {
-        self.build_inner(Some((f, Some(grad)))).map_err(|e| self.locate(e))
+    /// [`Self::build_with_user_potential`], with the user's own gradient if
+    /// [`UserFunctions::gradient`] is given ([`UserGradientFn`]: `∂V/∂x` and
+    /// `∂V/∂e` in the same layouts as `x` and `e`) instead of finite
+    /// differences: one call of each function per evaluation. The gradient
+    /// is trusted as it is.
+    pub fn build_with_user(&self, user: UserFunctions) -> Result<Simulation, SceneError> {
+        self.build_inner(Some(user)).map_err(|e| self.locate(e))
     }
 
     /// The output path (default `trajectory.csv`, or `.npz` for `format = "npz"`).
@@ -780,7 +781,7 @@ impl Scene {
         Ok((Plan { t0: t.t0, t_end: t.t_end, stepping, sampling, max_steps, sel: Sel::new(&quantities), events: Vec::new() }, method))
     }
 
-    fn build_inner(&self, user: Option<(UserPotentialFn, Option<UserGradientFn>)>) -> Result<Simulation, SceneError> {
+    fn build_inner(&self, user: Option<UserFunctions>) -> Result<Simulation, SceneError> {
         let (plan, method) = self.plan()?;
         let span = (plan.t0, plan.t_end);
         let ms = &self.manifold;
@@ -815,9 +816,9 @@ impl Scene {
                 let pot = self.potential3(&self.potential, "potential", &m)?;
                 let pot = match user {
                     None => pot,
-                    Some((f, grad)) => Potential3::Sum(vec![
+                    Some(user) => Potential3::Sum(vec![
                         (1.0, pot),
-                        (1.0, Potential3::User(UserPotential::new(f, grad, true, m.radius()).map_err(|e| SceneError::from_core("potential", e))?)),
+                        (1.0, Potential3::User(UserPotential::new(user, true, m.radius()).map_err(|e| SceneError::from_core("potential", e))?)),
                     ]),
                 };
                 self.build3(m, pot, span, method)?
@@ -834,17 +835,17 @@ impl Scene {
 
     // -- potentials -------------------------------------------------------------
 
-    fn potential2(&self, s: &Surface<'_>, user: Option<(UserPotentialFn, Option<UserGradientFn>)>) -> Result<Potential2, SceneError> {
+    fn potential2(&self, s: &Surface<'_>, user: Option<UserFunctions>) -> Result<Potential2, SceneError> {
         let pot = build_potential2(&self.potential, "potential", s)?;
         Ok(match user {
             None => pot,
-            Some((f, grad)) => {
+            Some(user) => {
                 let len = match s {
                     Surface::S2(m) => m.radius(),
                     Surface::H2(m) => m.radius(),
                     Surface::T2(_, r) => *r,
                 };
-                let u = UserPotential::new(f, grad, self.body.kind != BodyKind::Point, len).map_err(|e| SceneError::from_core("potential", e))?;
+                let u = UserPotential::new(user, self.body.kind != BodyKind::Point, len).map_err(|e| SceneError::from_core("potential", e))?;
                 Potential2::Sum(vec![(1.0, pot), (1.0, Potential2::User(u))])
             }
         })

@@ -98,6 +98,16 @@ pub type UserPotentialFn = Arc<dyn Fn(&[f64], &[f64]) -> f64 + Send + Sync>;
 /// ambient components, the metric not applied ([`GradFnPotential`]).
 pub type UserGradientFn = Arc<dyn Fn(&[f64], &[f64], &mut [f64], &mut [f64]) + Send + Sync>;
 
+/// A user potential as given: its value and, optionally, its gradient
+/// (without one the gradient is taken by finite differences).
+#[derive(Clone)]
+pub struct UserFunctions {
+    /// `V(x, e)`.
+    pub value: UserPotentialFn,
+    /// `(∂V/∂x, ∂V/∂e)`, if the user supplies it.
+    pub gradient: Option<UserGradientFn>,
+}
+
 type UserClosure<const N: usize, const E: usize> =
     Box<dyn Fn(&SVector<f64, E>, &SMatrix<f64, E, N>, &SMatrix<f64, E, E>) -> f64 + Send + Sync>;
 type UserGradClosure<const N: usize, const E: usize> =
@@ -126,11 +136,12 @@ impl<const N: usize, const E: usize> fmt::Debug for UserPotential<N, E> {
 }
 
 impl<const N: usize, const E: usize> UserPotential<N, E> {
-    /// `V = f(x, e)`, with the gradient `grad` if given, else by finite
+    /// `V = value(x, e)`, with the supplied gradient if any, else by finite
     /// differences; `length_scale` is the length over which `V` varies (the
     /// manifold's radius), used for the first difference step (and checked
     /// to be finite and > 0 only then).
-    pub fn new(f: UserPotentialFn, grad: Option<UserGradientFn>, uses_frame: bool, length_scale: f64) -> crate::Result<Self> {
+    pub fn new(user: UserFunctions, uses_frame: bool, length_scale: f64) -> crate::Result<Self> {
+        let UserFunctions { value: f, gradient: grad } = user;
         let value = move |x: &SVector<f64, E>, e: &SMatrix<f64, E, N>, _g: &SMatrix<f64, E, E>| f(x.as_slice(), e.as_slice());
         let closure: UserClosure<N, E> = Box::new(value);
         Ok(UserPotential(Arc::new(match grad {
