@@ -395,6 +395,21 @@ impl Splitting {
         &self.a[..=self.kicks]
     }
 
+    /// What [`Method::info`] reports, for any system (the splitting's
+    /// order, its kicks as stages, cubic Hermite dense output, no estimate,
+    /// no radius limit).
+    pub fn method_info(&self) -> MethodInfo {
+        MethodInfo {
+            name: self.name,
+            order: self.order,
+            embedded_order: None,
+            dense_order: self.order.min(3),
+            stages: self.kicks,
+            fsal: false,
+            radius_limit: f64::INFINITY,
+        }
+    }
+
     /// The kick weights `b₀ … b_{s−1}`.
     pub fn kick_weights(&self) -> &[f64] {
         &self.b[..self.kicks]
@@ -428,15 +443,7 @@ where
     S::State: GroupNumerics,
 {
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            name: self.name,
-            order: self.order,
-            embedded_order: None,
-            dense_order: self.order.min(3),
-            stages: self.kicks,
-            fsal: false,
-            radius_limit: f64::INFINITY,
-        }
+        self.method_info()
     }
 
     /// The composition, then renormalisation. The vector field is evaluated

@@ -357,15 +357,8 @@ impl<S: Observe> Method<S> for Chosen {
             MethodChoice::Dopri5(m) | MethodChoice::Butcher6(m) => Method::<S>::info(m),
             MethodChoice::Dop853(m) => Method::<S>::info(m),
             MethodChoice::Implicit(m) => Method::<S>::info(m),
-            MethodChoice::Split(m, name) => MethodInfo {
-                name,
-                order: m.order(),
-                embedded_order: None,
-                dense_order: m.order().min(3),
-                stages: m.kick_weights().len(),
-                fsal: false,
-                radius_limit: f64::INFINITY,
-            },
+            // The scene's name for the method, else as the splitting reports.
+            MethodChoice::Split(m, name) => MethodInfo { name, ..m.method_info() },
         }
     }
 
@@ -514,23 +507,25 @@ impl<S: Observe> Engine<S> {
         Ok(())
     }
 
-    /// `g_k(t, y)` of every event into `out`.
-    fn event_values(&self, plan: &Plan, ctx: &mut Ctx<'_>, t: f64, y: &S::State, out: &mut Vec<f64>) {
+    /// `f` of the full record (every quantity) at `(t, y)`, observed into
+    /// the reused buffer `ctx.full`.
+    fn with_full_record<R>(&self, ctx: &mut Ctx<'_>, t: f64, y: &S::State, f: impl FnOnce(&[f64]) -> R) -> R {
         let mut full = std::mem::take(&mut ctx.full);
         full.clear();
         self.problem.system().observe(Sel::ALL, t, y, &mut Row { cols: None, vals: &mut full });
-        out.clear();
-        out.extend(plan.events.iter().map(|e| (e.g)(t, &full)));
+        let r = f(&full);
         ctx.full = full;
+        r
+    }
+
+    /// `g_k(t, y)` of every event into `out`.
+    fn event_values(&self, plan: &Plan, ctx: &mut Ctx<'_>, t: f64, y: &S::State, out: &mut Vec<f64>) {
+        out.clear();
+        self.with_full_record(ctx, t, y, |full| out.extend(plan.events.iter().map(|e| (e.g)(t, full))));
     }
 
     fn event_value(&self, plan: &Plan, ctx: &mut Ctx<'_>, k: usize, t: f64, y: &S::State) -> f64 {
-        let mut full = std::mem::take(&mut ctx.full);
-        full.clear();
-        self.problem.system().observe(Sel::ALL, t, y, &mut Row { cols: None, vals: &mut full });
-        let g = (plan.events[k].g)(t, &full);
-        ctx.full = full;
-        g
+        self.with_full_record(ctx, t, y, |full| (plan.events[k].g)(t, full))
     }
 
     /// The signs of the events at the start of a run.
