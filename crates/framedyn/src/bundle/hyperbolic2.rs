@@ -130,7 +130,7 @@ impl FrameBundle<2, 3> for Hyperbolic2 {
 
     /// `(u₁/R, u₂/R, 0)`: the boost `(1/R)[[0, 0, u₁], [0, 0, u₂], [u₁, u₂, 0]]`.
     fn horizontal_lift(&self, _g: &So12, u: &SVector<f64, 2>) -> SVector<f64, 3> {
-        Vector3::new(u[0] / self.radius(), u[1] / self.radius(), 0.0)
+        Vector3::new(u[0] * self.inv_radius(), u[1] * self.inv_radius(), 0.0)
     }
 
     /// `(0, 0, ω)` with `ω = (w₂₁ − w₁₂)/2` (the skew part of `w`).

@@ -110,7 +110,7 @@ impl FrameBundle<2, 3> for Sphere2 {
     /// The so(3) vector `(0, −u₂/R, u₁/R)` of `h(u)`.
     #[inline]
     fn horizontal_lift(&self, _g: &So3, u: &Vector2<f64>) -> Vector3<f64> {
-        let k = 1.0 / self.radius();
+        let k = self.inv_radius();
         Vector3::new(0.0, -u[1] * k, u[0] * k)
     }
 

@@ -118,7 +118,7 @@ impl FrameBundle<3, 4> for Sphere3 {
     /// `(β, ω) = (u/R, 0)`: `h = (1/R) Σ u_a (E_{a0} − E_{0a})`.
     #[inline]
     fn horizontal_lift(&self, _g: &So4, u: &Vector3<f64>) -> So4Algebra {
-        let b = u / self.radius();
+        let b = u * self.inv_radius();
         So4Algebra::new(b[0], b[1], b[2], 0.0, 0.0, 0.0)
     }
 
@@ -147,6 +147,6 @@ impl FrameBundle<3, 4> for Sphere3 {
 
     /// `K = 1/R²`.
     fn curvature_at(&self, _g: &So4) -> f64 {
-        1.0 / (self.radius() * self.radius())
+        self.inv_radius() * self.inv_radius()
     }
 }

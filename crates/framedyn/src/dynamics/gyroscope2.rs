@@ -116,6 +116,12 @@ where
         &self.bundle
     }
 
+    /// `1/m` (stored: the integrators multiply by it).
+    #[inline]
+    pub fn inv_mass(&self) -> f64 {
+        self.inv_mass
+    }
+
     /// The body parameters.
     pub fn body(&self) -> &Gyroscope<2> {
         &self.body
@@ -336,7 +342,7 @@ where
     }
 
     /// `(F̂, −∂V/∂α)` at `(g, ρ)`.
-    #[inline]
+    #[inline(always)]
     fn forces(&self, g: &B::Group, rho: &So2) -> (Vector2<f64>, f64) {
         let x = self.bundle.position(g);
         let q = self.bundle.frame_vectors(g);
@@ -368,7 +374,7 @@ where
     type State = Gyroscope2State<B::Group>;
 
     /// `((horizontal_lift(g, u), σ s/I), ((K s ε u + F̂)/m, −∂V/∂α))`.
-    #[inline]
+    #[inline(always)]
     fn vector_field(&self, _t: f64, y: &Self::State) -> <Self::State as LieGroup>::Algebra {
         let (g, rho) = (&y.0 .0, &y.0 .1);
         let w = &y.1 .0;

@@ -111,6 +111,12 @@ where
         &self.bundle
     }
 
+    /// `1/m` (stored: the integrators multiply by it).
+    #[inline]
+    pub fn inv_mass(&self) -> f64 {
+        self.inv_mass
+    }
+
     /// The body parameters.
     pub fn body(&self) -> &Gyroscope<3> {
         &self.body

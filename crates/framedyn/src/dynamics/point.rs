@@ -84,6 +84,12 @@ where
         &self.bundle
     }
 
+    /// `1/m` (stored: the integrators multiply by it).
+    #[inline]
+    pub fn inv_mass(&self) -> f64 {
+        self.inv_mass
+    }
+
     /// The body parameters.
     pub fn body(&self) -> &Point {
         &self.body

@@ -48,6 +48,8 @@ pub const H2_ORIGIN_TOLERANCE: f64 = 16.0 * f64::EPSILON;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hyperbolic2 {
     radius: f64,
+    /// `1/R`, kept so that the vector fields multiply instead of divide.
+    inv_radius: f64,
 }
 
 impl Hyperbolic2 {
@@ -68,7 +70,8 @@ impl Hyperbolic2 {
     /// # Ok::<(), framedyn::Error>(())
     /// ```
     pub fn new(radius: f64) -> Result<Self> {
-        Ok(Hyperbolic2 { radius: positive("R", radius)? })
+        let radius = positive("R", radius)?;
+        Ok(Hyperbolic2 { radius, inv_radius: 1.0 / radius })
     }
 
     /// The pseudoradius `R`.
@@ -77,10 +80,16 @@ impl Hyperbolic2 {
         self.radius
     }
 
+    /// `1/R` (stored: the inner loops multiply by it).
+    #[inline]
+    pub fn inv_radius(&self) -> f64 {
+        self.inv_radius
+    }
+
     /// The Gaussian curvature `K = −1/R²`.
     #[inline]
     pub fn curvature(&self) -> f64 {
-        -1.0 / (self.radius * self.radius)
+        -(self.inv_radius * self.inv_radius)
     }
 
     /// Validates an embedded point: finite and on the upper sheet to

@@ -37,6 +37,8 @@ use crate::{Error, Result};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sphere2 {
     r: f64,
+    /// `1/R`, kept so that the vector fields multiply instead of divide.
+    inv_r: f64,
 }
 
 impl Sphere2 {
@@ -61,7 +63,8 @@ impl Sphere2 {
     /// # Ok::<(), framedyn::Error>(())
     /// ```
     pub fn new(radius: f64) -> Result<Self> {
-        Ok(Sphere2 { r: crate::error::positive("R", radius)? })
+        let r = crate::error::positive("R", radius)?;
+        Ok(Sphere2 { r, inv_r: 1.0 / r })
     }
 
     /// The radius `R`.
@@ -70,10 +73,16 @@ impl Sphere2 {
         self.r
     }
 
+    /// `1/R` (stored: the inner loops multiply by it).
+    #[inline]
+    pub fn inv_radius(&self) -> f64 {
+        self.inv_r
+    }
+
     /// The Gaussian curvature `K = 1/R²`.
     #[inline]
     pub fn curvature(&self) -> f64 {
-        1.0 / (self.r * self.r)
+        self.inv_r * self.inv_r
     }
 
     /// The frame field (a90) at the chart point `x` in ambient components:

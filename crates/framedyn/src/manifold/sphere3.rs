@@ -55,6 +55,8 @@ pub const S3_POINT_TOLERANCE: f64 = 1e-9;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sphere3 {
     radius: f64,
+    /// `1/R`, kept so that the vector fields multiply instead of divide.
+    inv_radius: f64,
 }
 
 /// Taylor coefficients of `h(t) = (2·dexpinv(t) − sinc3(t))/t`:
@@ -141,13 +143,20 @@ impl Sphere3 {
     /// # Ok::<(), framedyn::Error>(())
     /// ```
     pub fn new(radius: f64) -> Result<Self> {
-        Ok(Sphere3 { radius: positive("R", radius)? })
+        let radius = positive("R", radius)?;
+        Ok(Sphere3 { radius, inv_radius: 1.0 / radius })
     }
 
     /// The radius `R`.
     #[inline]
     pub fn radius(&self) -> f64 {
         self.radius
+    }
+
+    /// `1/R` (stored: the inner loops multiply by it).
+    #[inline]
+    pub fn inv_radius(&self) -> f64 {
+        self.inv_radius
     }
 
     /// `s = r²/R²` at the chart point `x`.

@@ -40,6 +40,8 @@ pub enum Geometry {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Centre<const E: usize> {
     radius: f64,
+    /// `1/R` (the gradients multiply by it).
+    inv_radius: f64,
     geometry: Geometry,
     point: SVector<f64, E>,
     /// Row 0: axial direction; rows 1..E: transverse directions.
@@ -105,7 +107,7 @@ impl Centre<3> {
             u1[0], u1[1], -u1[2], //
             u2[0], u2[1], -u2[2],
         );
-        Centre { radius: r, geometry: Geometry::Hyperbolic, point: SVector::from([s1 * r, s2 * r, ch * r]), rows }
+        Centre { radius: r, inv_radius: 1.0 / r, geometry: Geometry::Hyperbolic, point: SVector::from([s1 * r, s2 * r, ch * r]), rows }
     }
 }
 
@@ -154,7 +156,40 @@ impl<const E: usize> Centre<E> {
         let vv = v.norm_squared();
         let mut rows = SMatrix::<f64, E, E>::identity() - v * v.transpose() * (2.0 / vv);
         rows.set_row(0, &u.transpose());
-        Centre { radius: r, geometry: Geometry::Sphere, point: c, rows }
+        Centre { radius: r, inv_radius: 1.0 / r, geometry: Geometry::Sphere, point: c, rows }
+    }
+
+    /// `1/R`.
+    #[inline]
+    pub fn inv_radius(&self) -> f64 {
+        self.inv_radius
+    }
+
+    /// The axial component `y₀ = (M x)₀` alone (row 0 of `M` times `x`).
+    #[inline]
+    pub(crate) fn axial<D: Scalar>(&self, x: &SVector<D, E>) -> D {
+        let mut s = D::from(0.0);
+        for j in 0..E {
+            let m = self.rows[(0, j)];
+            if m != 0.0 {
+                s += x[j] * m;
+            }
+        }
+        s
+    }
+
+    /// [`Self::axial`] for plain numbers: one dot product, no tests for
+    /// zero entries (exact all the same for the default centres, whose row 0
+    /// is a unit vector).
+    #[inline]
+    pub(crate) fn axial_f64(&self, x: &SVector<f64, E>) -> f64 {
+        self.rows.row(0).transpose().dot(x)
+    }
+
+    /// `∂y₀/∂x`: row 0 of `M` (the gradient of the axial component).
+    #[inline]
+    pub(crate) fn axial_row(&self) -> SVector<f64, E> {
+        self.rows.row(0).transpose()
     }
 
     /// The radius (pseudoradius on H²) `R` of the manifold.
@@ -210,7 +245,7 @@ impl<const E: usize> Centre<E> {
     /// `cos(r/R)` on S²/S³, `cosh(r/R)` on H²: `Z/R`, linear in `x`.
     #[inline]
     pub fn cos_r<D: Scalar>(&self, x: &SVector<D, E>) -> D {
-        self.rotate(x)[0] * (1.0 / self.radius)
+        self.axial(x) * self.inv_radius
     }
 
     /// The geodesic distance `r` of `x` from the centre:

@@ -36,6 +36,10 @@ pub struct CosineFamily<const E: usize> {
     alpha: f64,
     beta: f64,
     centre: Centre<E>,
+    /// `2α̂/R²` and `β̂/R`: `∂V/∂x = (2α̂/R² · y₀ + β̂/R) M₀` with one
+    /// multiplication and one addition per evaluation.
+    grad_quad: f64,
+    grad_lin: f64,
 }
 
 impl<const E: usize> CosineFamily<E> {
@@ -43,11 +47,9 @@ impl<const E: usize> CosineFamily<E> {
     /// [`Error::InvalidParameter`] (field `"alpha_hat"` or `"beta_hat"`)
     /// unless both are finite (any sign).
     pub fn new(alpha_hat: f64, beta_hat: f64, centre: Centre<E>) -> Result<Self> {
-        Ok(CosineFamily {
-            alpha: finite_param("alpha_hat", alpha_hat)?,
-            beta: finite_param("beta_hat", beta_hat)?,
-            centre,
-        })
+        let (alpha, beta) = (finite_param("alpha_hat", alpha_hat)?, finite_param("beta_hat", beta_hat)?);
+        let k = centre.inv_radius();
+        Ok(CosineFamily { alpha, beta, centre, grad_quad: 2.0 * alpha * k * k, grad_lin: beta * k })
     }
 
     /// `α̂`.
@@ -76,12 +78,14 @@ impl<const N: usize, const E: usize> Potential<N, E> for CosineFamily<E> {
         c * (c * self.alpha + self.beta)
     }
 
-    /// Closed form: `∂V/∂x = (2α̂ cos + β̂)/R · M₀`, `M₀` the axial row.
+    /// Closed form: `∂V/∂x = (2α̂ cos + β̂)/R · M₀ = (2α̂ Z/R² + β̂/R) M₀`,
+    /// `M₀` the axial row, `Z = M₀·x`.
+    #[inline]
     fn gradient(&self, x: &SVector<f64, E>, _e: &SMatrix<f64, E, N>, _m: &SMatrix<f64, E, E>) -> Gradient<N, E> {
-        let c = self.centre.cos_r(x);
+        let z = self.centre.axial_f64(x);
+        let c = z * self.centre.inv_radius();
         let value = c * (c * self.alpha + self.beta);
-        let mut w = SVector::<f64, E>::zeros();
-        w[0] = (2.0 * self.alpha * c + self.beta) / self.centre.radius();
-        Gradient { value, dx: self.centre.pull_back(&w), de: SMatrix::zeros() }
+        let dx = self.centre.axial_row() * (self.grad_quad * z + self.grad_lin);
+        Gradient { value, dx, de: SMatrix::zeros() }
     }
 }
