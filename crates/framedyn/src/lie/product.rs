@@ -115,7 +115,7 @@ impl<A: LieGroup, B: LieGroup> LieGroup for Product<A, B> {
     fn identity() -> Self {
         Product(A::identity(), B::identity())
     }
-    #[inline]
+    #[inline(always)]
     fn compose(&self, rhs: &Self) -> Self {
         Product(self.0.compose(&rhs.0), self.1.compose(&rhs.1))
     }
@@ -123,7 +123,7 @@ impl<A: LieGroup, B: LieGroup> LieGroup for Product<A, B> {
     fn inverse(&self) -> Self {
         Product(self.0.inverse(), self.1.inverse())
     }
-    #[inline]
+    #[inline(always)]
     fn exp(a: &Self::Algebra) -> Self {
         Product(A::exp(&a.0), B::exp(&a.1))
     }

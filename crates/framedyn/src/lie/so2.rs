@@ -104,7 +104,7 @@ impl LieGroup for So2 {
         So2::new_unchecked(1.0, 0.0)
     }
     /// Complex multiplication.
-    #[inline]
+    #[inline(always)]
     fn compose(&self, rhs: &Self) -> Self {
         let (a, b) = (self.cs, rhs.cs);
         So2::new_unchecked(a[0] * b[0] - a[1] * b[1], a[0] * b[1] + a[1] * b[0])
@@ -114,7 +114,7 @@ impl LieGroup for So2 {
     fn inverse(&self) -> Self {
         So2::new_unchecked(self.cs[0], -self.cs[1])
     }
-    #[inline]
+    #[inline(always)]
     fn exp(a: &Self::Algebra) -> Self {
         let (s, c) = a[0].sin_cos();
         So2::new_unchecked(c, s)
@@ -160,11 +160,26 @@ impl LieGroup for So2 {
     fn constraint_defect(&self) -> f64 {
         (self.cs.norm_squared() - 1.0).abs()
     }
-    /// Divides by `|(cos, sin)|` (the nearest unit pair). A zero pair is
-    /// returned unchanged.
+    /// Divides by `|(cos, sin)|` (the nearest unit pair). A zero or
+    /// non-finite pair is returned unchanged.
+    #[inline]
     fn renormalize(&self) -> Self {
-        // √(c² + s²) (near 1 here: no overflow; `hypot` costs ~5× more),
-        // `hypot` only if the sum of squares over- or underflows.
+        // The integrators' case, inline: |(c, s)| near 1 (the test fails for
+        // NaN), one square root and one division.
+        let q = self.cs[0] * self.cs[0] + self.cs[1] * self.cs[1];
+        if q > 0.25 && q < 4.0 {
+            return So2 { cs: self.cs * (1.0 / q.sqrt()) };
+        }
+        self.renormalize_general()
+    }
+}
+
+impl So2 {
+    /// [`LieGroup::renormalize`] far from the unit circle (out of line):
+    /// `hypot` where the sum of squares over- or underflows.
+    #[cold]
+    #[inline(never)]
+    fn renormalize_general(&self) -> Self {
         let q = self.cs[0] * self.cs[0] + self.cs[1] * self.cs[1];
         let n = if q > 1e-300 && q < 1e300 { q.sqrt() } else { self.cs[0].hypot(self.cs[1]) };
         if n > 0.0 && n.is_finite() {

@@ -174,7 +174,7 @@ impl LieGroup for So3 {
     fn identity() -> Self {
         So3 { m: Matrix3::identity() }
     }
-    #[inline]
+    #[inline(always)]
     fn compose(&self, rhs: &Self) -> Self {
         So3 { m: self.m * rhs.m }
     }
@@ -185,7 +185,7 @@ impl LieGroup for So3 {
     }
     /// Rodrigues: `I + sinc(θ²)·hat(ω) + cosc(θ²)·hat(ω)²`, with
     /// `hat(ω)² = ωωᵀ − θ² I`.
-    #[inline]
+    #[inline(always)]
     fn exp(a: &Self::Algebra) -> Self {
         let s = a.norm_squared();
         let (sa, ca) = sinc_cosc(s);
@@ -244,7 +244,26 @@ impl LieGroup for So3 {
     /// convergent Newton–Schulz iteration `R ← R(3I − RᵀR)/2` (one step for
     /// round-off drift); otherwise, or if the result is a reflection, by an
     /// SVD `U diag(1, 1, ±1) Vᵀ`. Non-finite matrices are returned unchanged.
+    #[inline]
     fn renormalize(&self) -> Self {
+        // The integrators' case, inline: round-off drift, one Newton–Schulz
+        // step. `Σ|dᵢⱼ|` is NaN for a non-finite matrix, which fails the test.
+        let d = self.m.tr_mul(&self.m) - Matrix3::identity();
+        if d.iter().fold(0.0, |acc, x| acc + x.abs()) < 1e-8 {
+            let x = self.m - self.m * d * 0.5;
+            if x.determinant() > 0.0 {
+                return So3 { m: x };
+            }
+        }
+        self.renormalize_general()
+    }
+}
+
+impl So3 {
+    /// [`LieGroup::renormalize`] beyond round-off drift (out of line).
+    #[cold]
+    #[inline(never)]
+    fn renormalize_general(&self) -> Self {
         if !self.m.iter().all(|x| x.is_finite()) {
             return *self;
         }

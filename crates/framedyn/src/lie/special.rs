@@ -96,7 +96,7 @@ pub fn cosc(s: f64) -> f64 {
 /// `1 − cos θ = 2 sin²(θ/2)` (the same closed forms, equal to round-off;
 /// the Taylor series below [`SERIES_SMALL`]). For the exponentials of
 /// so(3) and so(1,2) in the integrators' inner loop.
-#[inline]
+#[inline(always)]
 pub fn sinc_cosc(s: f64) -> (f64, f64) {
     if s.abs() < SERIES_SMALL {
         (horner(&SINC, s), horner(&COSC, s))
