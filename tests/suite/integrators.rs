@@ -767,6 +767,62 @@ fn events_are_located_to_1e_10() {
 // Failures
 // ---------------------------------------------------------------------------
 
+/// A step tests the stage values once, through `Θ` (and the stages with
+/// `bᵢ = 0` one by one): this checks that a NaN first produced at any stage
+/// is still reported as `NonFinite { VectorField }` at that stage's own time
+/// `t + cᵢh`, for every shipped tableau and request (plain, error estimate,
+/// `f` at the end, dense output), including stages that do not enter `Θ`.
+#[test]
+fn a_non_finite_stage_value_is_reported_at_its_own_time() {
+    let (inner, y0) = rigid_body();
+    let (t0, h) = (0.25, 0.1);
+    fn check<const S: usize>(m: Rkmk<S>, inner: &RigidBody, y0: &Body, t0: f64, h: f64) {
+        let tab = m.tableau();
+        let requests = [
+            ("plain", StepRequest::plain()),
+            ("error", StepRequest { error: true, ..StepRequest::plain() }),
+            ("f_end", StepRequest { f_end: true, ..StepRequest::plain() }),
+            ("dense", StepRequest { dense: true, ..StepRequest::plain() }),
+        ];
+        let mut nodes: Vec<f64> = tab.c.to_vec();
+        nodes.sort_by(f64::total_cmp);
+        nodes.dedup();
+        for &ci in &nodes {
+            // NaN for every evaluation at t > t₀ + (cᵢ − 10⁻⁹)h: the first
+            // failing evaluation is the first stage j (in order) with cⱼ ≥ cᵢ.
+            let t_bad = t0 + (ci - 1e-9) * h;
+            let sys = NanAfter { inner: inner.clone(), t_bad };
+            let first = tab.c.iter().find(|&&cj| cj >= ci).copied().unwrap();
+            for (label, req) in requests {
+                match m.step(&sys, t0, y0, h, req) {
+                    Err(framedyn::method::StepFault::NonFinite { source, t_eval }) => {
+                        assert_eq!(source, NonFiniteSource::VectorField, "{} {label}, c = {ci}", tab.name);
+                        assert_eq!(t_eval, t0 + first * h, "{} {label}, c = {ci}", tab.name);
+                    }
+                    other => panic!("{} {label}, c = {ci}: expected a non-finite stage, got {other:?}", tab.name),
+                }
+            }
+        }
+        // And the end point: f(t₀ + h, y₁) when requested (FSAL or not).
+        let sys = NanAfter { inner: inner.clone(), t_bad: t0 + (1.0 - 1e-9) * h };
+        let req = StepRequest { f_end: true, ..StepRequest::plain() };
+        match m.step(&sys, t0, y0, h, req) {
+            Err(framedyn::method::StepFault::NonFinite { source: NonFiniteSource::VectorField, t_eval }) => {
+                assert_eq!(t_eval, t0 + h, "{}", tab.name)
+            }
+            other => panic!("{}: f_end must fail at t₀ + h, got {other:?}", tab.name),
+        }
+    }
+    check(Rkmk::lie_euler(), &inner, &y0, t0, h);
+    check(Rkmk::heun(), &inner, &y0, t0, h);
+    check(Rkmk::kutta3(), &inner, &y0, t0, h);
+    check(Rkmk::rk4(), &inner, &y0, t0, h);
+    check(Rkmk::rk4().with_dexp_inv(DexpInv::Series(2)), &inner, &y0, t0, h);
+    check(Rkmk::dopri5(), &inner, &y0, t0, h);
+    check(Rkmk::butcher6(), &inner, &y0, t0, h);
+    check(Rkmk::dop853(), &inner, &y0, t0, h);
+}
+
 /// Measures: NaN from the vector field after t = 0.5 stops fixed and
 /// adaptive runs with `NonFinite { VectorField }` carrying the failing
 /// step's t and h (t ≤ 0.5 < t + h, t_eval > 0.5), and the solution up to

@@ -221,6 +221,38 @@ fn guard<G: GroupNumerics>(theta: &G::Algebra, limit: f64, t_eval: f64, done: St
     guard_fault::<G>(theta, limit, t_eval, done)
 }
 
+/// The radius guard inside a step. Stage values that enter `Θ` are not
+/// tested one by one (`Θ` is tested once), so a non-finite one first shows
+/// as a failed guard at a later stage: the failure is then reported as that
+/// value's fault, as a per-stage test would have.
+#[inline(always)]
+fn stage_guard<G: GroupNumerics, const S: usize>(
+    theta: &G::Algebra,
+    limit: f64,
+    t_eval: f64,
+    done: StepCost,
+    k: &[G::Algebra],
+    tab: &Tableau<S>,
+    t: f64,
+    h: f64,
+) -> Result<(), StepFault> {
+    if G::within_radius(theta, limit) {
+        return Ok(());
+    }
+    stage_fault::<G, S>(k, tab, t, h).map_or_else(|| guard_fault::<G>(theta, limit, t_eval, done), Err)
+}
+
+/// The first non-finite stage value among `k` (stage `i` evaluated at
+/// `t + cᵢh`), as a fault; `None` if all are finite (out of line: only
+/// reached when a step fails).
+#[cold]
+#[inline(never)]
+fn stage_fault<G: LieGroup, const S: usize>(k: &[G::Algebra], tab: &Tableau<S>, t: f64, h: f64) -> Option<StepFault> {
+    k.iter()
+        .position(|ki| !ki.is_finite())
+        .map(|i| StepFault::NonFinite { source: NonFiniteSource::VectorField, t_eval: t + tab.c[i] * h })
+}
+
 /// The failing branch of [`guard`] (out of line): the fault with the bound found.
 #[cold]
 #[inline(never)]
@@ -341,6 +373,7 @@ where
         }
     }
 
+    #[inline(always)]
     fn step(
         &self,
         sys: &Sys,
@@ -365,13 +398,24 @@ where
             Some(f) => f,
             None => {
                 cost.rhs += 1;
-                eval(sys, t, y0)?
+                // Tested through Θ like the stages below (b₁ ≠ 0 in every
+                // consistent explicit tableau we ship; otherwise here).
+                if tab.b[0] != 0.0 {
+                    sys.vector_field(t, y0)
+                } else {
+                    eval(sys, t, y0)?
+                }
             }
         };
         let mut k = [k0; S];
         let mut last_stage_state: Option<G<Sys>> = None;
         let mut fsal_raw: Option<Alg<Sys>> = None;
-        for i in 1..n {
+        // The bound `S` is a constant (the loop unrolls, and so do the
+        // combinations inside it); `n ≤ S` stages are used.
+        for i in 1..S {
+            if i >= n {
+                break;
+            }
             // θᵢ = h Σⱼ aᵢⱼ Kⱼ.
             let mut th = combine(&k[..i], &tab.a[i][..i], h);
             if let Correction::Brackets(form) = corr {
@@ -382,11 +426,16 @@ where
                     }
                 }
             }
-            guard::<G<Sys>>(&th, self.radius_limit, t + tab.c[i] * h, cost)?;
+            stage_guard::<G<Sys>, S>(&th, self.radius_limit, t + tab.c[i] * h, cost, &k[..i], tab, t, h)?;
             let yi = y0.compose(&G::<Sys>::exp(&th));
             cost.exps += 1;
             cost.rhs += 1;
-            let f = eval(sys, t + tab.c[i] * h, &yi)?;
+            // A stage that enters Θ with a non-zero weight is tested through
+            // Θ (a non-finite Kᵢ makes Θ non-finite: `bᵢh·∞`, `bᵢh·NaN`,
+            // `0·∞` are not finite, and adding finite terms keeps them so);
+            // the others are tested here. One test per step instead of one
+            // per stage and component.
+            let f = if i < n && tab.b[i] != 0.0 { sys.vector_field(t + tab.c[i] * h, &yi) } else { eval(sys, t + tab.c[i] * h, &yi)? };
             k[i] = correct::<G<Sys>>(corr, &th, &f, &mut cost);
             if fsal && i == S - 1 {
                 // θ_S = h Σ a_Sj K_j = Θ (a_S = b): y₀·exp(θ_S) is the new state
@@ -397,7 +446,8 @@ where
         }
 
         // Θ = h Σ bᵢ Kᵢ (+ output commutators).
-        let mut theta = combine(&k[..n], &tab.b[..n], h);
+        // bᵢ = 0 for the unused stages i ≥ n (`solution_stages`).
+        let mut theta = combine(&k, &tab.b, h);
         if let Correction::Brackets(form) = corr {
             for term in form.output {
                 cost.brackets += 1;
@@ -405,7 +455,8 @@ where
             }
         }
         if !theta.is_finite() {
-            return Err(StepFault::NonFinite { source: NonFiniteSource::Increment, t_eval: t + h });
+            return Err(stage_fault::<G<Sys>, S>(&k[..n], tab, t, h)
+                .unwrap_or(StepFault::NonFinite { source: NonFiniteSource::Increment, t_eval: t + h }));
         }
         guard::<G<Sys>>(&theta, self.radius_limit, t + h, cost)?;
         let unnormalised = match last_stage_state {
