@@ -311,6 +311,8 @@ where
         fixed("blanes_moan4", 4, Splitting::blanes_moan4()),
         fixed("yoshida6", 6, Splitting::yoshida6()),
         fixed("blanes_moan6", 6, Splitting::blanes_moan6()),
+        fixed("blanes_moan_rkn4", 4, Splitting::blanes_moan_rkn4()),
+        fixed("blanes_moan_rkn6", 6, Splitting::blanes_moan_rkn6()),
     ]
 }
 

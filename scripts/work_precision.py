@@ -221,10 +221,11 @@ STYLE = {
     # splittings (dotted in the charts), implicit midpoint, library coordinate baselines
     "strang": ("gold", "1"), "yoshida4": ("darkgoldenrod", "2"), "suzuki4": ("peru", "3"),
     "blanes_moan4": ("sienna", "4"), "yoshida6": ("darkkhaki", "h"), "blanes_moan6": ("saddlebrown", "H"),
+    "blanes_moan_rkn4": ("orangered", "p"), "blanes_moan_rkn6": ("darkred", "P"),
     "lie_midpoint": ("magenta", "d"), "coords_rk4_lib": ("dimgray", "+"), "coords_dopri5": ("silver", "x"),
 }
 
-SPLITTINGS = {"strang", "yoshida4", "suzuki4", "blanes_moan4", "yoshida6", "blanes_moan6"}
+SPLITTINGS = {"strang", "yoshida4", "suzuki4", "blanes_moan4", "yoshida6", "blanes_moan6", "blanes_moan_rkn4", "blanes_moan_rkn6"}
 
 
 def style(name):

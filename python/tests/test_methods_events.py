@@ -30,7 +30,7 @@ def geodesic(**kw):
 T_EQUATOR = (math.pi / 2 * 2.0 - 0.3) / 0.7
 
 
-@pytest.mark.parametrize("method", ["strang", "yoshida4", "suzuki4", "blanes_moan4", "yoshida6", "blanes_moan6", "implicit_midpoint"])
+@pytest.mark.parametrize("method", ["strang", "yoshida4", "suzuki4", "blanes_moan4", "yoshida6", "blanes_moan6", "blanes_moan_rkn4", "blanes_moan_rkn6", "implicit_midpoint"])
 def test_new_methods_run_and_conserve(method):
     sol = fd.solve(fd.Scene.example("s2-gyroscope-cosine").replace(method={"name": method, "h": 0.01}, time={"t0": 0.0, "t_end": 1.0}))
     assert sol.stats["stop"] == "finished"

@@ -66,7 +66,7 @@ pub mod trees;
 pub use group::GroupNumerics;
 pub use implicit::ImplicitMidpoint;
 pub use rkmk::{DexpInv, Rkmk};
-pub use splitting::{ConstantCurvature, Splittable, Splitting};
+pub use splitting::{ConstantCurvature, PlanarFrameRotation, Splittable, Splitting};
 pub use tableau::Tableau;
 
 use std::fmt::Debug;

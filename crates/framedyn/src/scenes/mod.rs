@@ -63,7 +63,7 @@
 //! | `lie_euler`, `heun`, `kutta3`, `rk4`, `butcher6` | RKMK of order 1, 2, 3, 4, 6 ([`Rkmk`]) | all |
 //! | `dopri5` | RKMK Dormand–Prince 5(4): fixed `h`, or adaptive with `rtol`/`atol` (the tolerance bounds the local error per step; the global error can exceed it by the flow's amplification, 14–117× on the S² and T² gyroscope references) | all |
 //! | `dop853` | RKMK Dormand–Prince 8(5,3) (Hairer's DOP853): fixed `h`, or adaptive with `rtol`/`atol` — global error ≤ 8.1 × tol on every reference trajectory (`tests/suite/integrators_dop853.rs`); use it when tol should bound the final error | all |
-//! | `strang`, `yoshida4`, `suzuki4`, `blanes_moan4`, `yoshida6`, `blanes_moan6` | symplectic splittings with exact free flows ([`Splitting`]): bounded energy error, momentum maps to round-off | points and gyroscopes on S², H² (both signatures), S³ |
+//! | `strang`, `yoshida4`, `suzuki4`, `blanes_moan4`, `yoshida6`, `blanes_moan6`, `blanes_moan_rkn4`, `blanes_moan_rkn6` | symplectic splittings with exact free flows ([`Splitting`]): bounded energy error, momentum maps to round-off | points and gyroscopes on S², H² (both signatures), S³ |
 //! | `implicit_midpoint` | the symmetric implicit Lie midpoint rule ([`ImplicitMidpoint`]), Newton options `newton_tol` (default 1e-14), `newton_max_iter` (30) | all |
 //!
 //! A method a model does not support is refused by [`Scene::validate`]
@@ -162,12 +162,15 @@ pub const METHOD_NAMES: &[&str] = &[
     "blanes_moan4",
     "yoshida6",
     "blanes_moan6",
+    "blanes_moan_rkn4",
+    "blanes_moan_rkn6",
     "implicit_midpoint",
 ];
 
 /// The symplectic splittings (exact free flows: points and gyroscopes on S²,
 /// H² — both signatures — and S³; see [`Splitting`]).
-pub const SPLITTING_NAMES: &[&str] = &["strang", "yoshida4", "suzuki4", "blanes_moan4", "yoshida6", "blanes_moan6"];
+pub const SPLITTING_NAMES: &[&str] =
+    &["strang", "yoshida4", "suzuki4", "blanes_moan4", "yoshida6", "blanes_moan6", "blanes_moan_rkn4", "blanes_moan_rkn6"];
 
 /// Default limit on accepted steps of a scene run.
 pub const DEFAULT_SCENE_MAX_STEPS: u64 = 1_000_000_000;
@@ -673,6 +676,8 @@ impl Scene {
             "blanes_moan4" => MethodChoice::Split(Splitting::blanes_moan4(), "Blanes-Moan 4 splitting"),
             "yoshida6" => MethodChoice::Split(Splitting::yoshida6(), "Yoshida 6 splitting"),
             "blanes_moan6" => MethodChoice::Split(Splitting::blanes_moan6(), "Blanes-Moan 6 splitting"),
+            "blanes_moan_rkn4" => MethodChoice::Split(Splitting::blanes_moan_rkn4(), "Blanes-Moan RKN 4 splitting"),
+            "blanes_moan_rkn6" => MethodChoice::Split(Splitting::blanes_moan_rkn6(), "Blanes-Moan RKN 6 splitting"),
             "implicit_midpoint" => {
                 let tol = m.newton_tol.unwrap_or(1e-14);
                 if !(tol.is_finite() && (1e-16..=1e-2).contains(&tol)) {
