@@ -14,6 +14,10 @@
 //! In test mode (`cargo test --all-targets`, no `--bench` argument)
 //! criterion runs each bench once and the ratio table is skipped.
 //!
+//! Row `rkmk4_hand_rhs`: the library's RKMK4 step on the hand-written
+//! right-hand side (`HandRhs`, the same numbers on the library's state
+//! types): its ratio is the cost of the generic stage machinery alone.
+//!
 //! Before timing, the hand-written step is checked against the library's
 //! RKMK4 step (same state after one step to 1e-13): the baseline computes
 //! the same thing.
@@ -26,8 +30,9 @@ use std::io::Write;
 use common::*;
 use criterion::Criterion;
 use framedyn::dynamics::System;
+use framedyn::lie::{LieGroup, ProductAlgebra};
 use framedyn::method::{GroupNumerics, Method, Rkmk, Splitting, StepRequest};
-use nalgebra::{Matrix3, Vector2, Vector3};
+use nalgebra::{Matrix3, Vector1, Vector2, Vector3};
 
 /// Step size of the benched steps.
 const H: f64 = 0.01;
@@ -172,6 +177,29 @@ fn hand_strang(sys: &HandSys, y: &Hand, h: f64) -> Hand {
     y1.q -= y1.q * d * 0.5;
     y1.cs /= y1.cs.norm();
     y1
+}
+
+/// The hand-written right-hand side [`HandSys::f`] on the library's state
+/// types, as a [`System`]: the library's RKMK4 step on it (row
+/// `rkmk4_hand_rhs`) separates the cost of the generic stage machinery from
+/// that of the generic right-hand side.
+#[derive(Debug, Clone)]
+struct HandRhs(HandSys);
+
+impl System for HandRhs {
+    type State = <S2Gyro as System>::State;
+    #[inline(always)]
+    fn vector_field(&self, _t: f64, y: &Self::State) -> <Self::State as LieGroup>::Algebra {
+        let hy = Hand { q: *y.0 .0.matrix(), cs: Vector2::new(y.0 .1.cos(), y.0 .1.sin()), u: Vector2::new(y.1 .0[0], y.1 .0[1]), s: y.1 .0[2] };
+        let f = self.0.f(&hy);
+        ProductAlgebra(ProductAlgebra(f.w, Vector1::new(f.a)), Vector3::new(f.du[0], f.du[1], f.ds))
+    }
+    fn energy(&self, _y: &Self::State) -> f64 {
+        f64::NAN
+    }
+    fn defect(&self, _y: &Self::State) -> f64 {
+        f64::NAN
+    }
 }
 
 /// The hand state and parameters of the library's S² reference state.
@@ -400,6 +428,18 @@ fn ratio_table() {
         rows.push(("s2_gyroscope".into(), "strang_vs_hand_strang".into(), o, b, q));
     }
     system!("s2_gyroscope", r.system.clone(), r.y0);
+    if wanted("s2_gyroscope", "rkmk4_hand_rhs") {
+        // The library's RKMK4 step with the hand-written right-hand side.
+        let (sys, m) = (HandRhs(hs), Rkmk::rk4());
+        let y = m.step(&sys, 0.0, &r.y0, H, StepRequest::plain()).expect("step").y;
+        let lib = m.step(&r.system, 0.0, &r.y0, H, StepRequest::plain()).expect("step").y;
+        let d = (y.0 .0.matrix() - lib.0 .0.matrix()).amax().max((y.1 .0 - lib.1 .0).amax());
+        assert!(d <= 1e-13, "the hand right-hand side differs from the library's: {d:e}");
+        let (o, b, q) = ratio_row(&hs, &hy, || {
+            black_box(m.step(&sys, 0.0, black_box(&r.y0), H, StepRequest::plain()).map(|o| o.y).ok());
+        });
+        rows.push(("s2_gyroscope".into(), "rkmk4_hand_rhs".into(), o, b, q));
+    }
     let (p, y) = s2_point();
     system!("s2_point", p, y);
     let r = h2_gyro();
