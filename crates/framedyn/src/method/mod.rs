@@ -38,6 +38,7 @@
 //! | [`Splitting::yoshida4`] / [`Splitting::suzuki4`] | 4 | 3 / 5 kicks, 4 / 6 drifts | long runs (Suzuki: 10–130× smaller error than Yoshida at equal h) |
 //! | [`Splitting::blanes_moan4`] | 4 | 6 kicks, 7 drifts | **long runs on S², H², S³**: 160–1200× smaller error than Yoshida 4 at equal h |
 //! | [`Splitting::yoshida6`] / [`Splitting::blanes_moan6`] | 6 | 7 / 10 kicks, 8 / 11 drifts | long runs at tight accuracy (Blanes–Moan 50–450× more accurate at equal h) |
+//! | [`Splitting::blanes_moan_rkn4`] / [`Splitting::blanes_moan_rkn6`] | 4 / 6 | 7 / 12 kicks, 6 / 11 drifts | **the fastest on S², H², symmetric S³ at 1e-6 … 1e-10** (Runge–Kutta–Nyström: ≈ 14× more accurate than Blanes–Moan 6 at equal h on the S² reference, `docs/performance.md`) |
 //! | [`ImplicitMidpoint`] | 2 | Newton: `dim 𝔤` RHS for the Jacobian + 1 RHS and 1 exp per iteration (≈ 3–6), one LU | long runs where no exact free flow exists (T², affine bodies): symmetric, energy bounded |
 //! | [`baseline::CoordinateRk`] | 4 / 5 (4) | 4 / 6 `q̈` evaluations (autodiff + dense LU, allocates) | comparison only: fails at chart poles |
 //!
