@@ -163,6 +163,8 @@ macro_rules! each_splitting {
         { let ($name, $m) = ("blanes_moan4", Splitting::blanes_moan4()); $body }
         { let ($name, $m) = ("yoshida6", Splitting::yoshida6()); $body }
         { let ($name, $m) = ("blanes_moan6", Splitting::blanes_moan6()); $body }
+        { let ($name, $m) = ("blanes_moan_rkn4", Splitting::blanes_moan_rkn4()); $body }
+        { let ($name, $m) = ("blanes_moan_rkn6", Splitting::blanes_moan_rkn6()); $body }
     }};
 }
 

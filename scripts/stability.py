@@ -42,6 +42,7 @@ STYLE = {
     "dopri5": ("tab:red", "*", "-"), "implicit_midpoint": ("black", "h", "-"),
     "strang": ("tab:orange", "o", "--"), "yoshida4": ("gold", "^", "--"), "suzuki4": ("tab:brown", "v", "--"),
     "blanes_moan4": ("tab:red", "s", "--"), "yoshida6": ("tab:pink", "D", "--"), "blanes_moan6": ("darkred", "P", "--"),
+    "blanes_moan_rkn4": ("orangered", "p", ":"), "blanes_moan_rkn6": ("maroon", "X", ":"),
     "coords_rk4": ("gray", "x", ":"), "coords_dopri5_fixed": ("dimgray", "+", ":"), "coords_dopri5": ("dimgray", "+", ":"),
     "scipy_RK45": ("tab:pink", "X", ":"), "scipy_DOP853": ("tab:brown", "X", ":"), "scipy_LSODA": ("darkgoldenrod", "X", ":"),
 }
