@@ -51,6 +51,14 @@ struct Hand {
     s: f64,
 }
 
+impl Hand {
+    /// The library's S² gyroscope state in these variables.
+    #[inline(always)]
+    fn of(y: &<S2Gyro as System>::State) -> Hand {
+        Hand { q: *y.0 .0.matrix(), cs: Vector2::new(y.0 .1.cos(), y.0 .1.sin()), u: Vector2::new(y.1 .0[0], y.1 .0[1]), s: y.1 .0[2] }
+    }
+}
+
 /// Its algebra: so(3) vector, α̇, (u̇, ṡ).
 #[derive(Debug, Clone, Copy)]
 struct HandAlg {
@@ -190,8 +198,7 @@ impl System for HandRhs {
     type State = <S2Gyro as System>::State;
     #[inline(always)]
     fn vector_field(&self, _t: f64, y: &Self::State) -> <Self::State as LieGroup>::Algebra {
-        let hy = Hand { q: *y.0 .0.matrix(), cs: Vector2::new(y.0 .1.cos(), y.0 .1.sin()), u: Vector2::new(y.1 .0[0], y.1 .0[1]), s: y.1 .0[2] };
-        let f = self.0.f(&hy);
+        let f = self.0.f(&Hand::of(y));
         ProductAlgebra(ProductAlgebra(f.w, Vector1::new(f.a)), Vector3::new(f.du[0], f.du[1], f.ds))
     }
     fn energy(&self, _y: &Self::State) -> f64 {
@@ -213,13 +220,7 @@ fn hand_of(r: &Reference<S2Gyro>) -> (HandSys, Hand) {
         rate: 1.0 / m.moment_of_inertia(),
         grad: S2_A / radius,
     };
-    let hand = Hand {
-        q: *y.0 .0.matrix(),
-        cs: Vector2::new(y.0 .1.cos(), y.0 .1.sin()),
-        u: Vector2::new(y.1 .0[0], y.1 .0[1]),
-        s: y.1 .0[2],
-    };
-    (sys, hand)
+    (sys, Hand::of(y))
 }
 
 /// The baseline computes the library's RKMK4 step: compares after 10 steps.

@@ -354,28 +354,9 @@ def main():
     summary(rows)
 
 
-def best_cpu_at(rows, problem, target):
-    """Per method: the least CPU time among runs with error <= target."""
-    best = {}
-    for r in rows:
-        if r["problem"] != problem or r.get("failure"):
-            continue
-        try:
-            err, cpu = float(r["error"]), float(r["cpu_s"])
-        except ValueError:
-            continue
-        if math.isfinite(err) and err <= target:
-            best[r["method"]] = min(best.get(r["method"], math.inf), cpu)
-    return best
-
-
-def cpu_at_error(rows, problem, target):
-    """Per method: the thread-CPU time at final error exactly `target`,
-    interpolated linearly in (log error, log CPU) between two runs of the
-    method that bracket it (consecutive in CPU time, the cheaper one above
-    the target, the dearer one at or below it); the least such estimate,
-    or the least CPU time of a run at or below the target if that is less.
-    Methods that never reach the target are absent."""
+def runs_by_method(rows, problem):
+    """Per method: the (CPU seconds, final error) of its successful runs on
+    `problem` with a finite positive error, sorted by CPU time."""
     per = {}
     for r in rows:
         if r["problem"] != problem or r.get("failure"):
@@ -386,9 +367,29 @@ def cpu_at_error(rows, problem, target):
             continue
         if math.isfinite(err) and err > 0 and cpu > 0:
             per.setdefault(r["method"], []).append((cpu, err))
+    return {m: sorted(runs) for m, runs in per.items()}
+
+
+def best_cpu_at(rows, problem, target):
+    """Per method: the least CPU time among runs with error <= target."""
+    best = {}
+    for m, runs in runs_by_method(rows, problem).items():
+        ok = [c for c, e in runs if e <= target]
+        if ok:
+            best[m] = min(ok)
+    return best
+
+
+def cpu_at_error(rows, problem, target):
+    """Per method: the thread-CPU time at final error exactly `target`,
+    interpolated linearly in (log error, log CPU) between two runs of the
+    method that bracket it (consecutive in CPU time, the cheaper one above
+    the target, the dearer one at or below it); the least such estimate,
+    or the least CPU time of a run at or below the target if that is less.
+    Methods that never reach the target are absent."""
+    per = runs_by_method(rows, problem)
     out = {}
     for m, runs in per.items():
-        runs.sort()
         best = min((c for c, e in runs if e <= target), default=math.inf)
         for (c0, e0), (c1, e1) in zip(runs, runs[1:]):
             if e0 > target >= e1:

@@ -104,16 +104,22 @@ pub trait PlanarFrameRotation: ConstantCurvature<2, 3> {
     fn rotate_frame(&self, g: &Self::Group, cos: f64, sin: f64) -> Self::Group;
 }
 
+/// `m` with columns `i`, `j` replaced by `c·mᵢ + s·mⱼ`, `c·mⱼ − s·mᵢ`.
+#[inline]
+fn rotate_columns(m: &Matrix3<f64>, i: usize, j: usize, cos: f64, sin: f64) -> Matrix3<f64> {
+    let mut out = *m;
+    let (a, b): (Vector3<f64>, Vector3<f64>) = (m.column(i).into(), m.column(j).into());
+    out.set_column(i, &(a * cos + b * sin));
+    out.set_column(j, &(b * cos - a * sin));
+    out
+}
+
 impl PlanarFrameRotation for Sphere2 {
     /// `vertical(ε) = e₁` (rotation about the normal `n = Q e₀`): columns
     /// `q₁, q₂` of `Q` rotate, `q₁ ← c q₁ + s q₂`, `q₂ ← −s q₁ + c q₂`.
     #[inline]
     fn rotate_frame(&self, g: &So3, cos: f64, sin: f64) -> So3 {
-        let mut m = *g.matrix();
-        let (q1, q2): (Vector3<f64>, Vector3<f64>) = (m.column(1).into(), m.column(2).into());
-        m.set_column(1, &(q1 * cos + q2 * sin));
-        m.set_column(2, &(q2 * cos - q1 * sin));
-        So3::new_unchecked(m)
+        So3::new_unchecked(rotate_columns(g.matrix(), 1, 2, cos, sin))
     }
 }
 
@@ -122,11 +128,7 @@ impl PlanarFrameRotation for Hyperbolic2 {
     /// spacelike columns `λ₀, λ₁` of `Λ` rotate like `q₁, q₂` on S².
     #[inline]
     fn rotate_frame(&self, g: &So12, cos: f64, sin: f64) -> So12 {
-        let mut m = *g.matrix();
-        let (l0, l1): (Vector3<f64>, Vector3<f64>) = (m.column(0).into(), m.column(1).into());
-        m.set_column(0, &(l0 * cos + l1 * sin));
-        m.set_column(1, &(l1 * cos - l0 * sin));
-        So12::new_unchecked(m)
+        So12::new_unchecked(rotate_columns(g.matrix(), 0, 1, cos, sin))
     }
 }
 
