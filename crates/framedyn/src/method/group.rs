@@ -297,10 +297,17 @@ impl<G: MatrixAlgebra> GroupNumerics for Additive<G> {
 }
 
 impl<A: GroupNumerics, B: GroupNumerics> GroupNumerics for Product<A, B> {
-    /// The larger of the two factors' bounds (`ad` is block diagonal).
+    /// The larger of the two factors' bounds (`ad` is block diagonal);
+    /// NaN if either is NaN (`f64::max` would drop it, and a non-finite
+    /// argument must fail the radius guard, not pass as radius 0).
     #[inline]
     fn ad_radius(a: &Self::Algebra) -> f64 {
-        A::ad_radius(&a.0).max(B::ad_radius(&a.1))
+        let (x, y) = (A::ad_radius(&a.0), B::ad_radius(&a.1));
+        if x.is_nan() || y.is_nan() {
+            f64::NAN
+        } else {
+            x.max(y)
+        }
     }
     #[inline]
     fn within_radius(a: &Self::Algebra, limit: f64) -> bool {
