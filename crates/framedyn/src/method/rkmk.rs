@@ -221,25 +221,20 @@ fn guard<G: GroupNumerics>(theta: &G::Algebra, limit: f64, t_eval: f64, done: St
     guard_fault::<G>(theta, limit, t_eval, done)
 }
 
-/// The radius guard inside a step. Stage values that enter `Θ` are not
-/// tested one by one (`Θ` is tested once), so a non-finite one first shows
-/// as a failed guard at a later stage: the failure is then reported as that
-/// value's fault, as a per-stage test would have.
+/// `f(t, y)` at a stage. A stage value that enters `Θ` with a non-zero
+/// weight (`in_theta`) is not tested here: a non-finite `Kᵢ` makes `Θ`
+/// non-finite (`bᵢh·∞`, `bᵢh·NaN`, `0·∞` are not finite, and adding finite
+/// terms keeps them so), which the step tests once; the others are tested
+/// here. A non-finite value that enters `Θ` shows first as a failed radius
+/// guard at a later stage or as a non-finite `Θ`, and [`stage_fault`] then
+/// reports it as that value's fault, as a per-stage test would have.
 #[inline(always)]
-fn stage_guard<G: GroupNumerics, const S: usize>(
-    theta: &G::Algebra,
-    limit: f64,
-    t_eval: f64,
-    done: StepCost,
-    k: &[G::Algebra],
-    tab: &Tableau<S>,
-    t: f64,
-    h: f64,
-) -> Result<(), StepFault> {
-    if G::within_radius(theta, limit) {
-        return Ok(());
+fn eval_stage<Sys: System>(sys: &Sys, t: f64, y: &Sys::State, in_theta: bool) -> Result<Alg<Sys>, StepFault> {
+    if in_theta {
+        Ok(sys.vector_field(t, y))
+    } else {
+        eval(sys, t, y)
     }
-    stage_fault::<G, S>(k, tab, t, h).map_or_else(|| guard_fault::<G>(theta, limit, t_eval, done), Err)
 }
 
 /// The first non-finite stage value among `k` (stage `i` evaluated at
@@ -398,24 +393,13 @@ where
             Some(f) => f,
             None => {
                 cost.rhs += 1;
-                // Tested through Θ like the stages below (b₁ ≠ 0 in every
-                // consistent explicit tableau we ship; otherwise here).
-                if tab.b[0] != 0.0 {
-                    sys.vector_field(t, y0)
-                } else {
-                    eval(sys, t, y0)?
-                }
+                eval_stage(sys, t, y0, tab.b[0] != 0.0)?
             }
         };
         let mut k = [k0; S];
         let mut last_stage_state: Option<G<Sys>> = None;
         let mut fsal_raw: Option<Alg<Sys>> = None;
-        // The bound `S` is a constant (the loop unrolls, and so do the
-        // combinations inside it); `n ≤ S` stages are used.
-        for i in 1..S {
-            if i >= n {
-                break;
-            }
+        for i in 1..n {
             // θᵢ = h Σⱼ aᵢⱼ Kⱼ.
             let mut th = combine(&k[..i], &tab.a[i][..i], h);
             if let Correction::Brackets(form) = corr {
@@ -426,16 +410,12 @@ where
                     }
                 }
             }
-            stage_guard::<G<Sys>, S>(&th, self.radius_limit, t + tab.c[i] * h, cost, &k[..i], tab, t, h)?;
+            guard::<G<Sys>>(&th, self.radius_limit, t + tab.c[i] * h, cost)
+                .map_err(|e| stage_fault::<G<Sys>, S>(&k[..i], tab, t, h).unwrap_or(e))?;
             let yi = y0.compose(&G::<Sys>::exp(&th));
             cost.exps += 1;
             cost.rhs += 1;
-            // A stage that enters Θ with a non-zero weight is tested through
-            // Θ (a non-finite Kᵢ makes Θ non-finite: `bᵢh·∞`, `bᵢh·NaN`,
-            // `0·∞` are not finite, and adding finite terms keeps them so);
-            // the others are tested here. One test per step instead of one
-            // per stage and component.
-            let f = if i < n && tab.b[i] != 0.0 { sys.vector_field(t + tab.c[i] * h, &yi) } else { eval(sys, t + tab.c[i] * h, &yi)? };
+            let f = eval_stage(sys, t + tab.c[i] * h, &yi, tab.b[i] != 0.0)?;
             k[i] = correct::<G<Sys>>(corr, &th, &f, &mut cost);
             if fsal && i == S - 1 {
                 // θ_S = h Σ a_Sj K_j = Θ (a_S = b): y₀·exp(θ_S) is the new state
@@ -446,8 +426,7 @@ where
         }
 
         // Θ = h Σ bᵢ Kᵢ (+ output commutators).
-        // bᵢ = 0 for the unused stages i ≥ n (`solution_stages`).
-        let mut theta = combine(&k, &tab.b, h);
+        let mut theta = combine(&k[..n], &tab.b[..n], h);
         if let Correction::Brackets(form) = corr {
             for term in form.output {
                 cost.brackets += 1;

@@ -181,7 +181,7 @@ where
     }
 
     /// `g ← g₀ exp(h(ξ(u₀) + R)) exp(−hR)`, `R = vertical((Ks/m)ε)`
-    /// ([`free_translation`]; the second factor by
+    /// (the formula of [`free_translation`], its second factor by
     /// [`PlanarFrameRotation::rotate_frame`]); `u ← U(hKs/m) u₀` with the
     /// same `sin_cos`; `ρ ← ρ₀ U(hσs/I)`; `s` unchanged.
     #[inline(always)]
@@ -189,8 +189,8 @@ where
         let (g, rho) = (&y.0 .0, &y.0 .1);
         let w = y.1 .0;
         let (u, s) = (Vector2::new(w[0], w[1]), w[2]);
-        let c = self.bundle().curvature_at(g) * s * self.inv_mass();
         let b = self.bundle();
+        let c = b.curvature_at(g) * s * self.inv_mass();
         // vertical(cε) = c·vertical(ε) (linear): the product waits for `c` only.
         let xi = b.horizontal_lift(g, &u) + b.vertical(g, &EPS) * c;
         let (sn, cs) = (h * c).sin_cos();
