@@ -304,6 +304,7 @@ where
 
     /// The horizontal force `F̂` (frame components) and the torque
     /// `−∂V/∂α` of the potential.
+    #[inline(always)]
     pub fn potential_forces(&self, y: &Gyroscope2State<B::Group>) -> (Vector2<f64>, f64) {
         self.forces(&y.0 .0, &y.0 .1)
     }

@@ -172,7 +172,7 @@ where
     P: Potential<2, 3>,
 {
     /// `u ← u + hF̂/m`, `s ← s − h ∂V/∂α`.
-    #[inline]
+    #[inline(always)]
     fn kick(&self, y: &Self::State, h: f64) -> Self::State {
         let (f, torque) = self.potential_forces(y);
         let w = y.1 .0;
@@ -211,13 +211,13 @@ where
     P: Potential<N, E>,
 {
     /// `u ← u + hF̂/m`.
-    #[inline]
+    #[inline(always)]
     fn kick(&self, y: &Self::State, h: f64) -> Self::State {
         Product(y.0, Rn(y.1 .0 + self.force(y) * (h * self.inv_mass())))
     }
 
     /// The geodesic flow `g ← g₀ exp(h ξ(u₀))`, `u` unchanged.
-    #[inline]
+    #[inline(always)]
     fn drift(&self, y: &Self::State, h: f64) -> Self::State {
         let xi = self.bundle().horizontal_lift(&y.0, &y.1 .0);
         Product(y.0.compose(&B::Group::exp(&(xi * h))), y.1)
@@ -297,7 +297,7 @@ where
     P: Potential<3, 4>,
 {
     /// `u ← u + hF̂/m`, `π ← π + hτ`.
-    #[inline]
+    #[inline(always)]
     fn kick(&self, y: &Self::State, h: f64) -> Self::State {
         let (f, torque) = self.potential_forces(y);
         let w = y.1 .0;
@@ -506,7 +506,7 @@ impl Splitting {
     }
 
     /// Advances `y` by `h` (no checks): the composition itself.
-    #[inline]
+    #[inline(always)]
     pub fn advance<S: Splittable>(&self, sys: &S, y: &S::State, h: f64) -> S::State {
         let mut y = *y;
         for i in 0..self.kicks {
@@ -534,6 +534,7 @@ where
     /// The composition, then renormalisation. The vector field is evaluated
     /// only for dense output (`f` at both ends, cubic Hermite in
     /// `Θ = log(y₀⁻¹y₁)`); without it `theta` and `f_start` are zero.
+    #[inline(always)]
     fn step(
         &self,
         sys: &S,
