@@ -74,7 +74,6 @@ pub struct Gyroscope2Model<B, P> {
     sigma: f64,
     /// `σ / I`.
     rate: f64,
-    frame_dependent: bool,
 }
 
 impl<B, P> Gyroscope2Model<B, P>
@@ -104,7 +103,6 @@ where
             moment,
             sigma,
             rate: sigma / moment,
-            frame_dependent: potential.uses_frame(),
             bundle,
             body,
             potential,
@@ -347,22 +345,27 @@ where
     fn forces(&self, g: &B::Group, rho: &So2) -> (Vector2<f64>, f64) {
         let x = self.bundle.position(g);
         let q = self.bundle.frame_vectors(g);
+        // Asked of the potential, not cached: a constant for most potential
+        // types, so a step with a `V(x)` folds the frame path away and with
+        // it the body angle ρ (its exponential at every stage included).
+        if !self.potential.uses_frame() {
+            // `V(x)` does not read its frame argument: `q` stands in for `qρ`.
+            let grad = self.potential.gradient(&x, &q, &self.metric);
+            return (-(q.transpose() * grad.dx), 0.0);
+        }
         let rm = rho.matrix();
         let e = q * rm;
         let grad = self.potential.gradient(&x, &e, &self.metric);
         let mut f = -(q.transpose() * grad.dx);
-        let mut torque = 0.0;
-        if self.frame_dependent {
-            // Frame term of F̂_a = −H_a V: the body frame transported along q_a.
-            for a in 0..2 {
-                let xi = self.bundle.horizontal_lift(g, &Vector2::ith(a, 1.0));
-                let (_, dq) = self.bundle.frame_velocity(g, &xi);
-                f[a] -= grad.de.component_mul(&(dq * rm)).sum();
-            }
-            // −∂V/∂α = −Σ G_{cb} (ρε)_{cb},  G = qᵀ ∂V/∂e.
-            let gi = q.transpose() * grad.de;
-            torque = -gi.component_mul(&(rm * EPS)).sum();
+        // Frame term of F̂_a = −H_a V: the body frame transported along q_a.
+        for a in 0..2 {
+            let xi = self.bundle.horizontal_lift(g, &Vector2::ith(a, 1.0));
+            let (_, dq) = self.bundle.frame_velocity(g, &xi);
+            f[a] -= grad.de.component_mul(&(dq * rm)).sum();
         }
+        // −∂V/∂α = −Σ G_{cb} (ρε)_{cb},  G = qᵀ ∂V/∂e.
+        let gi = q.transpose() * grad.de;
+        let torque = -gi.component_mul(&(rm * EPS)).sum();
         (f, torque)
     }
 }
