@@ -817,6 +817,7 @@ fn a_non_finite_stage_value_is_reported_at_its_own_time() {
     check(Rkmk::heun(), &inner, &y0, t0, h);
     check(Rkmk::kutta3(), &inner, &y0, t0, h);
     check(Rkmk::rk4(), &inner, &y0, t0, h);
+    check(Rkmk::new(&framedyn::method::tableau::RK4), &inner, &y0, t0, h);
     check(Rkmk::rk4().with_dexp_inv(DexpInv::Series(2)), &inner, &y0, t0, h);
     check(Rkmk::dopri5(), &inner, &y0, t0, h);
     check(Rkmk::butcher6(), &inner, &y0, t0, h);

@@ -395,3 +395,66 @@ fn adaptive_on_the_affine_models() {
     super::estimate_exactness("S3 Weyl", &sys, y0);
     adaptive_errors("S3 Weyl", &sys, y0, 10.0, 5..=10);
 }
+
+/// `Rkmk::rk4()` runs an unrolled kernel; `Rkmk::new(&RK4)` the general
+/// engine. They must compute the same step bit for bit: along 40 steps of
+/// every model (gyroscopes on S², H², T², S³, with and without a frame
+/// coupling; affine, incompressible and Weyl bodies) at three step sizes,
+/// for the requests the kernel serves (plain, `f` at the end, `f` at the
+/// start given), whole `StepOutput`s compared with `==`; and at a step far
+/// beyond the radius guard, the same fault (kind, radius, limit, cost).
+/// Non-finite stage values: `a_non_finite_stage_value_is_reported_at_its_own_time`
+/// runs both.
+#[test]
+fn the_unrolled_rk4_kernel_is_the_general_engine_bit_for_bit() {
+    use framedyn::method::{tableau, Method, StepFault, StepRequest};
+    fn check<Sys: System>(label: &str, sys: &Sys, y0: Sys::State, abelian: bool)
+    where
+        Sys::State: framedyn::method::GroupNumerics + PartialEq,
+        <Sys::State as LieGroup>::Algebra: PartialEq,
+    {
+        let (kernel, general) = (Rkmk::rk4(), Rkmk::new(&tableau::RK4));
+        assert_ne!(kernel, general, "the two must differ in their kernel");
+        for h in [0.003, 0.05, 0.2] {
+            let mut y = y0;
+            for n in 0..40 {
+                let plain = StepRequest::plain();
+                let a = kernel.step(sys, 0.1 * n as f64, &y, h, plain).expect("kernel step");
+                let b = general.step(sys, 0.1 * n as f64, &y, h, StepRequest::plain()).expect("general step");
+                assert_eq!(a, b, "{label}, h = {h}, step {n}: plain");
+                let f_end = StepRequest { f_end: true, ..StepRequest::plain() };
+                let a1 = kernel.step(sys, 0.0, &y, h, f_end).expect("kernel step");
+                assert_eq!(a1, general.step(sys, 0.0, &y, h, StepRequest { f_end: true, ..StepRequest::plain() }).unwrap());
+                assert!(a1.f_end.is_some() && a1.cost.rhs == 5, "{label}: f_end costs one more evaluation");
+                let given = |f| StepRequest { f_start: Some(f), ..StepRequest::plain() };
+                let a2 = kernel.step(sys, 0.0, &a1.y, h, given(a1.f_end.unwrap())).expect("kernel step");
+                assert_eq!(a2, general.step(sys, 0.0, &a1.y, h, given(a1.f_end.unwrap())).unwrap());
+                assert_eq!(a2.cost.rhs, 3, "{label}: a given f_start saves one evaluation");
+                y = a.y;
+            }
+        }
+        let big = 1e3;
+        let (a, b) = (kernel.step(sys, 0.0, &y0, big, StepRequest::plain()), general.step(sys, 0.0, &y0, big, StepRequest::plain()));
+        // (The T² gyroscope's group ℝ³ × SO(2) × ℝ³ is abelian: no bound.)
+        assert!(abelian || matches!(a, Err(StepFault::DexpRadius { .. })), "{label}: h = {big} must trip the radius guard, got {a:?}");
+        assert_eq!(a, b, "{label}: the same outcome at h = {big}");
+    }
+    let (sys, y0) = s2_gyro();
+    check("S2 gyroscope", &sys, y0, false);
+    let s2 = Sphere2::new(1.0).unwrap();
+    let free = Gyroscope2Model::new(s2, Gyroscope::<2>::isotropic(1.0, 0.3).unwrap(), Axial { a: 0.8, b: 0.0, radius: 1.0, axis: 2 })
+        .unwrap();
+    check("S2 gyroscope, V(x)", &free, y0, false);
+    let (sys, y0) = h2_gyro();
+    check("H2 gyroscope", &sys, y0, false);
+    let (sys, y0) = t2_gyro();
+    check("T2 gyroscope", &sys, y0, true);
+    let (sys, y0) = s3_gyro();
+    check("S3 gyroscope", &sys, y0, false);
+    let (sys, y0) = s2_affine();
+    check("S2 affine", &sys, y0, false);
+    let (sys, y0) = h2_incompressible();
+    check("H2 incompressible", &sys, y0, false);
+    let (sys, y0) = s3_weyl();
+    check("S3 Weyl", &sys, y0, false);
+}

@@ -77,6 +77,20 @@ pub struct Rkmk<const S: usize> {
     tableau: &'static Tableau<S>,
     dexp_inv: DexpInv,
     radius_limit: f64,
+    kernel: Kernel,
+}
+
+/// Which code runs a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kernel {
+    /// The engine for every tableau (runtime tableau data, stage loops).
+    General,
+    /// [`Rkmk::rk4`]: the two-commutator RKMK4 step written out stage by
+    /// stage, its coefficients constants — the same operations in the same
+    /// order as the general engine on [`tableau::RK4`] (the test suite checks
+    /// the two agree bit for bit, faults included), without its loops over
+    /// runtime tableau data, which the compiler does not unroll.
+    Rk4,
 }
 
 impl Rkmk<1> {
@@ -105,8 +119,16 @@ impl Rkmk<3> {
 impl Rkmk<4> {
     /// RKMK4 on the classical RK4 ([`tableau::RK4`]), by default in the
     /// two-commutator form [`tableau::RK4_BRACKETS`].
+    ///
+    /// Its plain steps (and those asking for `f` at either end) run a
+    /// dedicated unrolled kernel that computes exactly what the general
+    /// engine computes ([`Rkmk::new`]`(&tableau::RK4)` runs the general
+    /// engine); dense-output steps and other `dexp⁻¹` treatments use the
+    /// general engine.
     pub const fn rk4() -> Self {
-        Self::new(&tableau::RK4)
+        let mut m = Self::new(&tableau::RK4);
+        m.kernel = Kernel::Rk4;
+        m
     }
 }
 
@@ -138,12 +160,16 @@ impl<const S: usize> Rkmk<S> {
     /// The RKMK method of `tableau`, with [`DexpInv::Auto`] and the radius
     /// guard [`DEFAULT_RADIUS_LIMIT`].
     pub const fn new(tableau: &'static Tableau<S>) -> Self {
-        Rkmk { tableau, dexp_inv: DexpInv::Auto, radius_limit: DEFAULT_RADIUS_LIMIT }
+        Rkmk { tableau, dexp_inv: DexpInv::Auto, radius_limit: DEFAULT_RADIUS_LIMIT, kernel: Kernel::General }
     }
 
     /// The same method with another `dexp⁻¹` treatment.
     pub const fn with_dexp_inv(mut self, mode: DexpInv) -> Self {
         self.dexp_inv = mode;
+        if !matches!(mode, DexpInv::Auto) {
+            // The unrolled RKMK4 kernel is the commutator form only.
+            self.kernel = Kernel::General;
+        }
         self
     }
 
@@ -351,6 +377,87 @@ where
     Ok(DensePoly { coeffs, degree })
 }
 
+/// One two-commutator RKMK4 step ([`tableau::RK4`] with
+/// [`tableau::RK4_BRACKETS`]) written out: what the general engine of
+/// [`Rkmk::step`] does for this tableau with `req.dense` and `req.error`
+/// unset, operation for operation (the same [`combine`] sums, guards, stage
+/// tests, costs and faults), with the tableau's coefficients as constants.
+#[inline(always)]
+fn rk4_kernel<Sys: System>(
+    sys: &Sys,
+    t: f64,
+    y0: &Sys::State,
+    h: f64,
+    f_start: Option<Alg<Sys>>,
+    f_end: bool,
+    radius_limit: f64,
+) -> Result<StepOutput<Sys::State>, StepFault>
+where
+    Sys::State: GroupNumerics,
+{
+    type G<Sys> = <Sys as System>::State;
+    const TAB: Tableau<4> = tableau::RK4;
+    const STAGE_BRACKET: f64 = 1.0 / 8.0;
+    const OUTPUT_BRACKET: f64 = 1.0 / 12.0;
+    let mut cost = StepCost::default();
+    // Every bᵢ ≠ 0: no stage value is tested on its own (see `eval_stage`).
+    let k0 = match f_start {
+        Some(f) => f,
+        None => {
+            cost.rhs += 1;
+            sys.vector_field(t, y0)
+        }
+    };
+    // Stage 2: θ₂ = (h/2) K₁.
+    let th = combine(&[k0], &[TAB.a[1][0]], h);
+    guard::<G<Sys>>(&th, radius_limit, t + TAB.c[1] * h, cost)
+        .map_err(|e| stage_fault::<G<Sys>, 4>(&[k0], &TAB, t, h).unwrap_or(e))?;
+    let yi = y0.compose(&G::<Sys>::exp(&th));
+    cost.exps += 1;
+    cost.rhs += 1;
+    let k1 = sys.vector_field(t + TAB.c[1] * h, &yi);
+    // Stage 3: θ₃ = (h/2) K₂ + (h²/8)[K₁, K₂].
+    let mut th = combine(&[k0, k1], &[TAB.a[2][0], TAB.a[2][1]], h);
+    cost.brackets += 1;
+    th = th + G::<Sys>::bracket(&k0, &k1) * (h * h * STAGE_BRACKET);
+    guard::<G<Sys>>(&th, radius_limit, t + TAB.c[2] * h, cost)
+        .map_err(|e| stage_fault::<G<Sys>, 4>(&[k0, k1], &TAB, t, h).unwrap_or(e))?;
+    let yi = y0.compose(&G::<Sys>::exp(&th));
+    cost.exps += 1;
+    cost.rhs += 1;
+    let k2 = sys.vector_field(t + TAB.c[2] * h, &yi);
+    // Stage 4: θ₄ = h K₃.
+    let th = combine(&[k0, k1, k2], &[TAB.a[3][0], TAB.a[3][1], TAB.a[3][2]], h);
+    guard::<G<Sys>>(&th, radius_limit, t + TAB.c[3] * h, cost)
+        .map_err(|e| stage_fault::<G<Sys>, 4>(&[k0, k1, k2], &TAB, t, h).unwrap_or(e))?;
+    let yi = y0.compose(&G::<Sys>::exp(&th));
+    cost.exps += 1;
+    cost.rhs += 1;
+    let k3 = sys.vector_field(t + TAB.c[3] * h, &yi);
+    // Θ = h Σ bᵢ Kᵢ + (h²/12)[K₁, K₄].
+    let k = [k0, k1, k2, k3];
+    let mut theta = combine(&k, &TAB.b, h);
+    cost.brackets += 1;
+    theta = theta + G::<Sys>::bracket(&k0, &k3) * (h * h * OUTPUT_BRACKET);
+    if !theta.is_finite() {
+        return Err(stage_fault::<G<Sys>, 4>(&k, &TAB, t, h)
+            .unwrap_or(StepFault::NonFinite { source: NonFiniteSource::Increment, t_eval: t + h }));
+    }
+    guard::<G<Sys>>(&theta, radius_limit, t + h, cost)?;
+    cost.exps += 1;
+    let y1 = y0.compose(&G::<Sys>::exp(&theta)).renormalize();
+    if !y1.is_finite() {
+        return Err(StepFault::NonFinite { source: NonFiniteSource::State, t_eval: t + h });
+    }
+    let f_end = if f_end {
+        cost.rhs += 1;
+        Some(eval(sys, t + h, &y1)?)
+    } else {
+        None
+    };
+    Ok(StepOutput { y: y1, theta, f_start: k0, f_end, error: None, dense: None, cost })
+}
+
 impl<Sys: System, const S: usize> Method<Sys> for Rkmk<S>
 where
     Sys::State: GroupNumerics,
@@ -378,6 +485,9 @@ where
         req: StepRequest<Alg<Sys>>,
     ) -> Result<StepOutput<Sys::State>, StepFault> {
         type G<Sys> = <Sys as System>::State;
+        if self.kernel == Kernel::Rk4 && !req.dense && !req.error {
+            return rk4_kernel(sys, t, y0, h, req.f_start, req.f_end, self.radius_limit);
+        }
         let tab = self.tableau;
         let corr = self.correction();
         // The last stage is at the new state only if Θ = θ_S, i.e. no output
