@@ -345,18 +345,16 @@ where
     fn forces(&self, g: &B::Group, rho: &So2) -> (Vector2<f64>, f64) {
         let x = self.bundle.position(g);
         let q = self.bundle.frame_vectors(g);
-        // Asked of the potential, not cached: a constant for most potential
-        // types, so a step with a `V(x)` folds the frame path away and with
-        // it the body angle ρ (its exponential at every stage included).
-        if !self.potential.uses_frame() {
-            // `V(x)` does not read its frame argument: `q` stands in for `qρ`.
-            let grad = self.potential.gradient(&x, &q, &self.metric);
-            return (-(q.transpose() * grad.dx), 0.0);
-        }
         let rm = rho.matrix();
         let e = q * rm;
         let grad = self.potential.gradient(&x, &e, &self.metric);
         let mut f = -(q.transpose() * grad.dx);
+        // Asked of the potential, not cached: a constant for most potential
+        // types, so for a `V(x)` this branch and with it every use of the
+        // body angle ρ fold away (its exponential at every stage included).
+        if !self.potential.uses_frame() {
+            return (f, 0.0);
+        }
         // Frame term of F̂_a = −H_a V: the body frame transported along q_a.
         for a in 0..2 {
             let xi = self.bundle.horizontal_lift(g, &Vector2::ith(a, 1.0));
