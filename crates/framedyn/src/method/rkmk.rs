@@ -20,7 +20,11 @@
 //!
 //! Stage arrays live on the stack (`[𝔤; S]`, `S` a const generic), the
 //! tableau is `'static` data, and no trait objects are involved: a step
-//! allocates nothing.
+//! allocates nothing. [`Rkmk::rk4`] runs its plain steps through a kernel
+//! written out stage by stage with the coefficients as constants (the
+//! compiler does not unroll the engine's stage loops over runtime tableau
+//! data); it performs the engine's operations in the engine's order, and the
+//! test suite checks the two agree bit for bit.
 //!
 //! \[MK98\] H. Munthe-Kaas, *Runge–Kutta methods on Lie groups*, BIT 38 (1998)
 //! 92–111. \[MK99\] H. Munthe-Kaas, *High order Runge–Kutta methods on
