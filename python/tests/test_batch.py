@@ -89,7 +89,7 @@ def test_user_potential_in_a_batch():
 
 def test_gil_is_released_during_a_long_batch():
     """A Python thread keeps counting while the batch runs."""
-    scenes = [gyro_s2(h=1e-4, t_end=20.0, output={"samples": 2})] * 2
+    scenes = [gyro_s2(h=1e-4, t_end=60.0, output={"samples": 2})] * 2  # ≈ 0.6 s in the dev build
     counts = []
     stop = threading.Event()
 

@@ -319,8 +319,13 @@ def test_ctrl_c_stops_a_long_run():
     t0 = time.monotonic()
     timer.start()
     try:
-        with pytest.raises(KeyboardInterrupt):
-            fd.solve(s)
+        sol = fd.solve(s)
+    except KeyboardInterrupt:
+        pass
+    else:
+        # Diagnostics for a failure seen once under heavy load (CI, 2026-11-25):
+        # how long the run took and why it says it stopped.
+        pytest.fail(f"no KeyboardInterrupt: solve returned after {time.monotonic() - t0:.2f} s, stats {sol.stats}")
     finally:
         timer.cancel()
     assert time.monotonic() - t0 < 10.0
