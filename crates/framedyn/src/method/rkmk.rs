@@ -89,11 +89,7 @@ pub struct Rkmk<const S: usize> {
 enum Kernel {
     /// The engine for every tableau (runtime tableau data, stage loops).
     General,
-    /// [`Rkmk::rk4`]: the two-commutator RKMK4 step written out stage by
-    /// stage, its coefficients constants — the same operations in the same
-    /// order as the general engine on [`tableau::RK4`] (the test suite checks
-    /// the two agree bit for bit, faults included), without its loops over
-    /// runtime tableau data, which the compiler does not unroll.
+    /// [`Rkmk::rk4`]: `rk4_kernel`, the engine's RKMK4 step written out.
     Rk4,
 }
 
@@ -401,8 +397,9 @@ where
 {
     type G<Sys> = <Sys as System>::State;
     const TAB: Tableau<4> = tableau::RK4;
-    const STAGE_BRACKET: f64 = 1.0 / 8.0;
-    const OUTPUT_BRACKET: f64 = 1.0 / 12.0;
+    // The commutator coefficients of `RK4_BRACKETS` (θ₃ and Θ).
+    const STAGE_BRACKET: f64 = tableau::RK4_BRACKETS.stages[0].1.coeff;
+    const OUTPUT_BRACKET: f64 = tableau::RK4_BRACKETS.output[0].coeff;
     let mut cost = StepCost::default();
     // Every bᵢ ≠ 0: no stage value is tested on its own (see `eval_stage`).
     let k0 = match f_start {
