@@ -18,6 +18,12 @@
 //! right-hand side (`HandRhs`, the same numbers on the library's state
 //! types): its ratio is the cost of the generic stage machinery alone.
 //!
+//! Rows `rkmk4_pole`, `strang_pole` (and `strang_pole_vs_hand_strang`): the
+//! same problem with the potential's centre a compile-time `Pole` instead of
+//! a runtime `Centre` (checked to give the same step bit for bit): the
+//! library as a Rust user writes the paper's problem, with the axial
+//! coordinate a constant index as in the hand-written step.
+//!
 //! Before timing, the hand-written step is checked against the library's
 //! RKMK4 step (same state after one step to 1e-13): the baseline computes
 //! the same thing.
@@ -440,6 +446,32 @@ fn ratio_table() {
             black_box(m.step(&sys, 0.0, black_box(&r.y0), H, StepRequest::plain()).map(|o| o.y).ok());
         });
         rows.push(("s2_gyroscope".into(), "rkmk4_hand_rhs".into(), o, b, q));
+    }
+    // The same problem about a compile-time `Pole` (bit for bit the same
+    // steps): the potential's axial coordinate is x₂ instead of a dot product
+    // with a runtime row, as in the hand-written step.
+    let rp = s2_gyro_pole();
+    let same = |a: Option<<S2Gyro as System>::State>, b: Option<<S2Gyro as System>::State>, name: &str| {
+        assert!(a.is_some() && a == b, "{name}: the step about a Pole differs from the step about the Centre");
+    };
+    let plain = StepRequest::plain;
+    same(Rkmk::rk4().step(&r.system, 0.0, &r.y0, H, plain()).ok().map(|o| o.y), Rkmk::rk4().step(&rp.system, 0.0, &rp.y0, H, plain()).ok().map(|o| o.y), "rkmk4");
+    same(strang.step(&r.system, 0.0, &r.y0, H, plain()).ok().map(|o| o.y), strang.step(&rp.system, 0.0, &rp.y0, H, plain()).ok().map(|o| o.y), "strang");
+    if wanted("s2_gyroscope", "rkmk4_pole") {
+        let m = Rkmk::rk4();
+        let (o, b, q) = ratio_row(&hs, &hy, || {
+            black_box(m.step(&rp.system, 0.0, black_box(&rp.y0), H, StepRequest::plain()).map(|o| o.y).ok());
+        });
+        rows.push(("s2_gyroscope".into(), "rkmk4_pole".into(), o, b, q));
+    }
+    if wanted("s2_gyroscope", "strang_pole") {
+        let step = || {
+            black_box(strang.step(&rp.system, 0.0, black_box(&rp.y0), H, StepRequest::plain()).map(|o| o.y).ok());
+        };
+        let (o, b, q) = ratio_row(&hs, &hy, step);
+        rows.push(("s2_gyroscope".into(), "strang_pole".into(), o, b, q));
+        let (o, b, q) = ratio_row_against(hand_strang_row, step);
+        rows.push(("s2_gyroscope".into(), "strang_pole_vs_hand_strang".into(), o, b, q));
     }
     let (p, y) = s2_point();
     system!("s2_point", p, y);

@@ -25,7 +25,7 @@ use framedyn::dynamics::{Gyroscope2Model, Gyroscope3Model, PointModel, System};
 use framedyn::lie::{LieGroup, So3};
 use framedyn::manifold::{Hyperbolic2, Manifold, Sphere2, Sphere3, Torus2};
 use framedyn::method::{GroupNumerics, Method, Rkmk};
-use framedyn::potential::{Centre, CosineFamily, Elastic, Potential, Scalar, Sum};
+use framedyn::potential::{Axis, Centre, CosineFamily, Elastic, Pole, Potential, Scalar, Sum};
 use framedyn::solve::{solve, Options, Problem, Save, Stepper};
 use nalgebra::{Matrix2, Matrix3, Matrix4, SMatrix, SVector, Vector2, Vector3};
 
@@ -96,8 +96,12 @@ pub fn obs_dist(a: &[f64], b: &[f64]) -> f64 {
 // The models
 // ---------------------------------------------------------------------------
 
-/// S² gyroscope in `V = a cos(r/R)`.
+/// S² gyroscope in `V = a cos(r/R)` (the centre a runtime [`Centre`], as
+/// scenes and Python build it).
 pub type S2Gyro = Gyroscope2Model<Sphere2, CosineFamily<3>>;
+/// The same with the centre a compile-time [`Pole`] (same numbers bit for
+/// bit; the step-cost bench's `*_pole` rows).
+pub type S2GyroPole = Gyroscope2Model<Sphere2, CosineFamily<3, Pole<3>>>;
 /// H² gyroscope in `V = a cosh(r/R)`.
 pub type H2Gyro = Gyroscope2Model<Hyperbolic2, CosineFamily<3>>;
 /// T² gyroscope in a uniform field along the symmetry axis.
@@ -165,8 +169,22 @@ pub const S2_V0: [f64; 3] = [0.3, 0.6, 1.0];
 /// The S² gyroscope of SPEC §5 (m = 1, R = 1, I = 0.3, V = 0.5 cos(r/R)),
 /// over `t_end` (100 in the SPEC).
 pub fn s2_gyro_with(a: f64, radius: f64, q0: [f64; 3], v0: [f64; 3], t_end: f64, name: &'static str) -> Reference<S2Gyro> {
+    s2_gyro_about(Centre::sphere2, a, radius, q0, v0, t_end, name)
+}
+
+/// [`s2_gyro_with`] with the potential's centre built by `centre` (a
+/// [`Centre`] or a [`Pole`]).
+pub fn s2_gyro_about<C: Axis<3>>(
+    centre: fn(&Sphere2) -> C,
+    a: f64,
+    radius: f64,
+    q0: [f64; 3],
+    v0: [f64; 3],
+    t_end: f64,
+    name: &'static str,
+) -> Reference<Gyroscope2Model<Sphere2, CosineFamily<3, C>>> {
     let s2 = Sphere2::new(radius).unwrap();
-    let pot = CosineFamily::new(0.0, a, Centre::sphere2(&s2)).unwrap();
+    let pot = CosineFamily::new(0.0, a, centre(&s2)).unwrap();
     let m = Gyroscope2Model::new(s2, Gyroscope::<2>::isotropic(S2_MASS, S2_MOMENT).unwrap(), pot).unwrap();
     let x = Vector2::new(q0[0], q0[1]);
     let (p, v) = (s2.embed(&x), s2.embed_tangent(&x, &Vector2::new(v0[0], v0[1])));
@@ -186,6 +204,11 @@ pub fn s2_gyro_with(a: f64, radius: f64, q0: [f64; 3], v0: [f64; 3], t_end: f64,
 /// SPEC §5: the S² gyroscope, T = 100.
 pub fn s2_gyro() -> Reference<S2Gyro> {
     s2_gyro_with(S2_A, S2_RADIUS, S2_Q0, S2_V0, 100.0, "s2_gyro")
+}
+
+/// [`s2_gyro`] about a compile-time [`Pole`].
+pub fn s2_gyro_pole() -> Reference<S2GyroPole> {
+    s2_gyro_about(Pole::sphere2, S2_A, S2_RADIUS, S2_Q0, S2_V0, 100.0, "s2_gyro")
 }
 
 /// The S² gyroscope in a well at the pole, `V = −0.5 cos(r/R)`, starting

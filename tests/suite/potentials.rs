@@ -11,8 +11,8 @@ use std::f64::consts::PI;
 
 use framedyn::manifold::{Hyperbolic2, Manifold, Sphere2, Sphere3};
 use framedyn::potential::{
-    autodiff_gradient, deformation_invariants, polar_invariants, principal_invariants, Central, Centre, CosineFamily,
-    Elastic, FnPotential, Gradient, InvariantFunction, InvariantPotential, Kepler, NeoHookean, Oscillator, Potential,
+    autodiff_gradient, deformation_invariants, Axis, polar_invariants, principal_invariants, Central, Centre, CosineFamily,
+    Elastic, FnPotential, Gradient, InvariantFunction, InvariantPotential, Kepler, NeoHookean, Oscillator, Pole, Potential,
     RadialFunction, Scalar, Scaled, Separable, SeparableFunctions, StVenantKirchhoff, Sum, TorusAngle,
 };
 use framedyn::Error;
@@ -630,6 +630,57 @@ fn cosine_family_and_central_closed_forms_match_autodiff() {
             Ok(err)
         },
     );
+}
+
+/// Largest difference between the cosine family about a [`Pole`] and about
+/// the same point as a runtime [`Centre`]: value, closed-form gradient and
+/// autodiff gradient (dual numbers through `value`). Zero means bit for bit.
+fn pole_vs_centre<const N: usize, const E: usize>(
+    pole: &CosineFamily<E, Pole<E>>,
+    centre: &CosineFamily<E>,
+    x: &SVector<f64, E>,
+    e: &SMatrix<f64, E, N>,
+    g: &SMatrix<f64, E, E>,
+) -> f64
+where
+    Pole<E>: Axis<E>,
+    CosineFamily<E, Pole<E>>: Potential<N, E>,
+    CosineFamily<E>: Potential<N, E>,
+{
+    let bits = |a: &Gradient<N, E>, b: &Gradient<N, E>| {
+        let same = a.value.to_bits() == b.value.to_bits()
+            && a.dx.iter().zip(b.dx.iter()).all(|(p, q)| p.to_bits() == q.to_bits())
+            && a.de == b.de;
+        if same {
+            0.0
+        } else {
+            grad_error(a, b).max(f64::MIN_POSITIVE)
+        }
+    };
+    assert_eq!(pole.centre(), centre.centre());
+    bits(&pole.gradient(x, e, g), &centre.gradient(x, e, g)).max(bits(&autodiff_gradient(pole, x, e, g), &autodiff_gradient(centre, x, e, g)))
+}
+
+/// [`Pole`] is [`Centre`]'s default centre fixed at compile time: the same
+/// numbers bit for bit on S², H² and S³, at the pole itself included.
+#[test]
+fn cosine_family_about_a_pole_is_the_default_centre_bit_for_bit() {
+    let ab = || (-5.0f64..5.0, -5.0f64..5.0);
+    check("S2 pole vs centre", 256, (s2_cfg(0.0, PI), ab()), 0.0, |(c, (a, b))| {
+        let s = Sphere2::new(c.radius).unwrap();
+        let (p, q) = (CosineFamily::new(a, b, Pole::sphere2(&s)).unwrap(), CosineFamily::new(a, b, Centre::sphere2(&s)).unwrap());
+        Ok(pole_vs_centre(&p, &q, &c.x, &c.e, &c.g))
+    });
+    check("H2 pole vs centre", 256, (h2_cfg(0.0, 6.0), ab()), 0.0, |(c, (a, b))| {
+        let h = Hyperbolic2::new(c.radius).unwrap();
+        let (p, q) = (CosineFamily::new(a, b, Pole::hyperbolic2(&h)).unwrap(), CosineFamily::new(a, b, Centre::hyperbolic2(&h)).unwrap());
+        Ok(pole_vs_centre(&p, &q, &c.x, &c.e, &c.g))
+    });
+    check("S3 pole vs centre", 256, (s3_cfg(0.0, PI), -5.0f64..5.0, -5.0f64..5.0), 0.0, |(c, a, b)| {
+        let s = Sphere3::new(c.radius).unwrap();
+        let (p, q) = (CosineFamily::new(a, b, Pole::sphere3(&s)).unwrap(), CosineFamily::new(a, b, Centre::sphere3(&s)).unwrap());
+        Ok(pole_vs_centre(&p, &q, &c.x, &c.e, &c.g()))
+    });
 }
 
 #[test]

@@ -297,6 +297,118 @@ impl<const E: usize> Centre<E> {
     }
 }
 
+/// Where a potential that depends on the position only through the axial
+/// component `Z = (M x)₀` of a [`Centre`] reads it: a [`Centre`] (any point,
+/// `Z` a dot product with the runtime row `M₀`), or a [`Pole`] (the chart's
+/// pole, `Z` one coordinate of `x` fixed at compile time).
+///
+/// Both give the same numbers bit for bit at the poles (the row `M₀` of a
+/// default centre is a coordinate unit vector); a [`Pole`] lets the compiler
+/// drop every product that only feeds the other coordinates — at an RKMK
+/// stage, most of the stage frame `Q₀ exp(θ)` (see `docs/performance.md`).
+pub trait Axis<const E: usize>: core::fmt::Debug + Clone + Copy + PartialEq + Send + Sync {
+    /// The centre as a [`Centre`] (radius, geometry, point, distance).
+    fn centre(&self) -> &Centre<E>;
+    /// `Z = M₀·x`, with derivative parts for dual numbers.
+    fn axial<D: Scalar>(&self, x: &SVector<D, E>) -> D;
+    /// `Z = M₀·x` for plain numbers.
+    fn axial_f64(&self, x: &SVector<f64, E>) -> f64;
+    /// `∂Z/∂x = M₀`.
+    fn axial_row(&self) -> SVector<f64, E>;
+    /// `s·M₀` with `+0` where `M₀` is zero (not `0·s`, which is `−0` for
+    /// `s < 0` and NaN for infinite `s`): the gradient of a function of `Z`
+    /// alone. For a [`Pole`] the zeros are constants, and the compiler
+    /// drops the products they multiply.
+    fn scaled_row(&self, s: f64) -> SVector<f64, E>;
+}
+
+impl<const E: usize> Axis<E> for Centre<E> {
+    #[inline]
+    fn centre(&self) -> &Centre<E> {
+        self
+    }
+    #[inline]
+    fn axial<D: Scalar>(&self, x: &SVector<D, E>) -> D {
+        Centre::axial(self, x)
+    }
+    #[inline]
+    fn axial_f64(&self, x: &SVector<f64, E>) -> f64 {
+        Centre::axial_f64(self, x)
+    }
+    #[inline]
+    fn axial_row(&self) -> SVector<f64, E> {
+        Centre::axial_row(self)
+    }
+    #[inline]
+    fn scaled_row(&self, s: f64) -> SVector<f64, E> {
+        self.rows.row(0).transpose().map(|m| if m != 0.0 { m * s } else { 0.0 })
+    }
+}
+
+/// The pole of the paper's chart as a centre known at compile time:
+/// `(0, 0, R)` on S² and H² (`Z = x₂`), `(R, 0, 0, 0)` on S³ (`Z = x₀`).
+///
+/// The same centre as [`Centre::sphere2`], [`Centre::hyperbolic2`] and
+/// [`Centre::sphere3`], with the same values and gradients bit for bit
+/// (tested), for potentials generic over [`Axis`] such as
+/// [`CosineFamily`](super::CosineFamily): with a [`Pole`] the axial
+/// component is one coordinate instead of a dot product with runtime data,
+/// and the compiler drops the work that only feeds the others. Choose it in
+/// Rust code whose centre is the pole; scenes and Python use [`Centre`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pole<const E: usize> {
+    centre: Centre<E>,
+}
+
+impl Pole<3> {
+    /// The pole `(0, 0, R)` of S² ([`Centre::sphere2`]).
+    pub fn sphere2(sphere: &Sphere2) -> Self {
+        Pole { centre: Centre::sphere2(sphere) }
+    }
+
+    /// The origin `(0, 0, R)` of H² ([`Centre::hyperbolic2`]).
+    pub fn hyperbolic2(plane: &Hyperbolic2) -> Self {
+        Pole { centre: Centre::hyperbolic2(plane) }
+    }
+}
+
+impl Pole<4> {
+    /// The centre `(R, 0, 0, 0)` of S³ ([`Centre::sphere3`]).
+    pub fn sphere3(sphere: &Sphere3) -> Self {
+        Pole { centre: Centre::sphere3(sphere) }
+    }
+}
+
+/// `Axis` of a [`Pole`] whose axial row is the unit vector `e_K`.
+macro_rules! pole_axis {
+    ($e:literal, $k:literal) => {
+        impl Axis<$e> for Pole<$e> {
+            #[inline]
+            fn centre(&self) -> &Centre<$e> {
+                &self.centre
+            }
+            #[inline(always)]
+            fn axial<D: Scalar>(&self, x: &SVector<D, $e>) -> D {
+                x[$k]
+            }
+            #[inline(always)]
+            fn axial_f64(&self, x: &SVector<f64, $e>) -> f64 {
+                x[$k]
+            }
+            #[inline(always)]
+            fn axial_row(&self) -> SVector<f64, $e> {
+                SVector::ith($k, 1.0)
+            }
+            #[inline(always)]
+            fn scaled_row(&self, s: f64) -> SVector<f64, $e> {
+                SVector::ith($k, s)
+            }
+        }
+    };
+}
+pole_axis!(3, 2);
+pole_axis!(4, 0);
+
 /// `Σ_{k ≥ 1} y_k²`.
 #[inline]
 pub(crate) fn transverse_sq<D: Scalar, const E: usize>(y: &SVector<D, E>) -> D {
