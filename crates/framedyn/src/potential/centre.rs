@@ -355,6 +355,16 @@ impl<const E: usize> Axis<E> for Centre<E> {
 /// component is one coordinate instead of a dot product with runtime data,
 /// and the compiler drops the work that only feeds the others. Choose it in
 /// Rust code whose centre is the pole; scenes and Python use [`Centre`].
+///
+/// ```
+/// use framedyn::manifold::Sphere2;
+/// use framedyn::potential::{Centre, CosineFamily, Pole};
+/// let s2 = Sphere2::new(2.0)?;
+/// let about_pole = CosineFamily::new(0.0, 0.5, Pole::sphere2(&s2))?;
+/// let about_centre = CosineFamily::new(0.0, 0.5, Centre::sphere2(&s2))?;
+/// assert_eq!(about_pole.centre(), about_centre.centre());
+/// # Ok::<(), framedyn::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pole<const E: usize> {
     centre: Centre<E>,
