@@ -313,8 +313,6 @@ pub trait Axis<const E: usize>: core::fmt::Debug + Clone + Copy + PartialEq + Se
     fn axial<D: Scalar>(&self, x: &SVector<D, E>) -> D;
     /// `Z = M₀·x` for plain numbers.
     fn axial_f64(&self, x: &SVector<f64, E>) -> f64;
-    /// `∂Z/∂x = M₀`.
-    fn axial_row(&self) -> SVector<f64, E>;
     /// `s·M₀` with `+0` where `M₀` is zero (not `0·s`, which is `−0` for
     /// `s < 0` and NaN for infinite `s`): the gradient of a function of `Z`
     /// alone. For a [`Pole`] the zeros are constants, and the compiler
@@ -336,12 +334,8 @@ impl<const E: usize> Axis<E> for Centre<E> {
         Centre::axial_f64(self, x)
     }
     #[inline]
-    fn axial_row(&self) -> SVector<f64, E> {
-        Centre::axial_row(self)
-    }
-    #[inline]
     fn scaled_row(&self, s: f64) -> SVector<f64, E> {
-        self.rows.row(0).transpose().map(|m| if m != 0.0 { m * s } else { 0.0 })
+        Centre::axial_row(self).map(|m| if m != 0.0 { m * s } else { 0.0 })
     }
 }
 
@@ -404,10 +398,6 @@ macro_rules! pole_axis {
             #[inline(always)]
             fn axial_f64(&self, x: &SVector<f64, $e>) -> f64 {
                 x[$k]
-            }
-            #[inline(always)]
-            fn axial_row(&self) -> SVector<f64, $e> {
-                SVector::ith($k, 1.0)
             }
             #[inline(always)]
             fn scaled_row(&self, s: f64) -> SVector<f64, $e> {
