@@ -8,7 +8,7 @@ use framedyn::body::{Gyroscope, Point, Signature};
 use framedyn::bundle::FrameBundle;
 use framedyn::dynamics::gyroscope2::Z_ROTATION;
 use framedyn::dynamics::{
-    horizontal_force, internal_gradient, Gyroscope2Model, Gyroscope2State, Gyroscope3Model, Gyroscope3State,
+    horizontal_force, internal_gradient, position_force, Gyroscope2Model, Gyroscope2State, Gyroscope3Model, Gyroscope3State,
     PointModel, System,
 };
 use framedyn::lie::{LieGroup, Product, ProductAlgebra, Rn, So12, So2, So3, So4};
@@ -1372,4 +1372,46 @@ fn t2_geometric_force_vanishes_where_the_curvature_does() {
     assert!(k_out > 0.0 && k_in < 0.0);
     assert!((outer / k_out - inner / k_in).amax() < 1e-15 * outer.amax() / k_out);
     assert!(outer.dot(&inner) < 0.0);
+}
+
+/// `position_force` on one random frame and gradient: `−qᵀ·dx` with the
+/// entries of `dx` flagged in `zero` set to +0.
+fn position_force_case<const N: usize, const E: usize>(qv: &[f64], dv: &[f64], zero: &[bool]) -> Result<(), TestCaseError> {
+    let q = SMatrix::<f64, E, N>::from_iterator(qv.iter().copied());
+    let dx = SVector::<f64, E>::from_iterator(dv.iter().zip(zero).map(|(&d, &z)| if z { 0.0 } else { d }));
+    let f = position_force(&q, &dx);
+    let plain = -(q.transpose() * dx);
+    if zero.iter().all(|&z| !z) {
+        // No entry skipped: the plain product, bit for bit.
+        for a in 0..N {
+            prop_assert_eq!(f[a].to_bits(), plain[a].to_bits(), "component {}", a);
+        }
+    } else {
+        // Skipped zero entries: the same values (a zero's sign may differ).
+        prop_assert_eq!(f, plain);
+    }
+    // A frame row that only meets a zero entry is not read: a non-finite
+    // number there leaves the force finite and unchanged.
+    if let Some(i) = zero.iter().position(|&z| z) {
+        let mut qn = q;
+        qn.row_mut(i).fill(f64::NAN);
+        prop_assert_eq!(position_force(&qn, &dx), f);
+    }
+    Ok(())
+}
+
+proptest! {
+    /// `dynamics::position_force` is `−qᵀ·∂_x V` summed over the non-zero
+    /// entries of `∂_x V`: bit for bit the plain product when none is zero,
+    /// the same values otherwise, and it does not read the frame rows of the
+    /// zero entries (what lets a `Pole` potential skip them in every model).
+    #[test]
+    fn position_force_is_minus_the_frame_transpose_times_the_gradient(
+        qv in proptest::collection::vec(-3.0..3.0f64, 12),
+        dv in proptest::collection::vec(-3.0..3.0f64, 4),
+        zero in proptest::collection::vec(proptest::bool::weighted(0.3), 4),
+    ) {
+        position_force_case::<2, 3>(&qv[..6], &dv[..3], &zero[..3])?;
+        position_force_case::<3, 4>(&qv, &dv, &zero)?;
+    }
 }

@@ -11,7 +11,7 @@ use super::point::{
 };
 use crate::body::{Gyroscope, Signature};
 use crate::bundle::FrameBundle;
-use crate::dynamics::System;
+use crate::dynamics::{position_force, System};
 use crate::error::finite;
 use crate::lie::{LieGroup, Product, ProductAlgebra, Rn, So2};
 use crate::potential::Potential;
@@ -348,7 +348,7 @@ where
         let rm = rho.matrix();
         let e = q * rm;
         let grad = self.potential.gradient(&x, &e, &self.metric);
-        let mut f = -(q.transpose() * grad.dx);
+        let mut f = position_force(&q, &grad.dx);
         // Asked of the potential, not cached: a constant for most potential
         // types, so for a `V(x)` this branch and with it every use of the
         // body angle ρ fold away (its exponential at every stage included).

@@ -11,7 +11,7 @@ use super::point::{
 };
 use crate::body::{Gyroscope, Signature};
 use crate::bundle::FrameBundle;
-use crate::dynamics::System;
+use crate::dynamics::{position_force, System};
 use crate::error::finite;
 use crate::lie::{LieGroup, Product, ProductAlgebra, Rn, So3};
 use crate::manifold::Sphere3;
@@ -332,7 +332,7 @@ where
         let q = self.bundle.frame_vectors(g);
         let e = q * rm;
         let grad = self.potential.gradient(&x, &e, &self.metric);
-        let mut f = -(q.transpose() * grad.dx);
+        let mut f = position_force(&q, &grad.dx);
         let mut torque = Vector3::zeros();
         if self.frame_dependent {
             for a in 0..3 {

@@ -33,6 +33,35 @@ pub trait System: Send + Sync {
     fn defect(&self, y: &Self::State) -> f64;
 }
 
+/// `−qᵀ·∂_x V`: the position part of the horizontal force, `−q_a·∂_x V` for
+/// each frame vector `q_a` (the columns of `q`).
+///
+/// Summed over the non-zero entries of `∂_x V` only. A potential whose
+/// gradient has zero entries known at compile time (a
+/// [`Pole`](crate::potential::Pole) centre: `∂_x V ∝ e_z`) then costs only the
+/// rows of `q` it reads, and an integrator's stage frame is not computed
+/// where nothing reads it. A product `q_{ia}·0` cannot be dropped by the
+/// compiler (it is NaN for a non-finite `q_{ia}` and `−0` for a negative
+/// one), so the plain product `qᵀ·∂_x V` kept the whole frame alive. The sum
+/// starts from `−0`, the additive identity, so that where no entry is zero
+/// the result is that of `qᵀ·∂_x V` bit for bit; a skipped zero entry can
+/// only change the sign of a zero component. A non-finite frame is still
+/// caught: the integrators test every new state.
+#[inline(always)]
+pub fn position_force<const N: usize, const E: usize>(q: &SMatrix<f64, E, N>, dx: &SVector<f64, E>) -> SVector<f64, N> {
+    let mut f = SVector::<f64, N>::zeros();
+    for a in 0..N {
+        let mut acc = -0.0;
+        for i in 0..E {
+            if dx[i] != 0.0 {
+                acc += q[(i, a)] * dx[i];
+            }
+        }
+        f[a] = -acc;
+    }
+    f
+}
+
 /// The horizontal force `F̂_a = −H_a V` in the parallel frame `q` of `g`, for
 /// the body frame `e = q·ρ` and the gradient `grad` of `V` at `(x, e)`.
 /// `frame_dependent = false` skips the frame term (potentials `V(x)`).
@@ -44,7 +73,7 @@ pub fn horizontal_force<B: FrameBundle<N, E>, const N: usize, const E: usize>(
     frame_dependent: bool,
 ) -> SVector<f64, N> {
     let q = bundle.frame_vectors(g);
-    let mut f = -(q.transpose() * grad.dx);
+    let mut f = position_force(&q, &grad.dx);
     if frame_dependent {
         for a in 0..N {
             let mut unit = SVector::<f64, N>::zeros();

@@ -8,7 +8,7 @@ use nalgebra::{SMatrix, SVector};
 
 use crate::body::Point;
 use crate::bundle::FrameBundle;
-use crate::dynamics::System;
+use crate::dynamics::{position_force, System};
 use crate::error::finite;
 use crate::lie::{LieGroup, Product, ProductAlgebra, Rn};
 use crate::potential::Potential;
@@ -157,7 +157,7 @@ where
     pub fn force(&self, y: &PointState<B::Group, N>) -> SVector<f64, N> {
         let x = self.bundle.position(&y.0);
         let grad = self.potential.gradient(&x, &SMatrix::zeros(), &self.metric);
-        -(self.bundle.frame_vectors(&y.0).transpose() * grad.dx)
+        position_force(&self.bundle.frame_vectors(&y.0), &grad.dx)
     }
 
     /// The momentum map (Noether charge) of the one-parameter group of ambient
@@ -191,7 +191,7 @@ where
         let xi = self.bundle.horizontal_lift(g, u);
         let x = self.bundle.position(g);
         let grad = self.potential.gradient(&x, &SMatrix::zeros(), &self.metric);
-        let f = -(self.bundle.frame_vectors(g).transpose() * grad.dx);
+        let f = position_force(&self.bundle.frame_vectors(g), &grad.dx);
         ProductAlgebra(xi, f * self.inv_mass)
     }
 
