@@ -594,6 +594,7 @@ where
     (amax(&(closed.dx - auto.dx)) / dscale).max((closed.value - auto.value).abs() / vscale)
 }
 
+/// Also at `α̂ = 0`, where the closed-form gradient does not read `x`.
 #[test]
 fn cosine_family_and_central_closed_forms_match_autodiff() {
     let ab = || (-5.0f64..5.0, -5.0f64..5.0, vec3());
@@ -601,7 +602,9 @@ fn cosine_family_and_central_closed_forms_match_autodiff() {
         let s = Sphere2::new(c.radius).unwrap();
         let mut err = 0.0f64;
         for centre in [Centre::sphere2(&s), s2_centre(c.radius, &d)] {
-            err = err.max(cosine_err(&CosineFamily::new(a, b, centre).unwrap(), &c.x, &c.e, &c.g));
+            for a in [a, 0.0] {
+                err = err.max(cosine_err(&CosineFamily::new(a, b, centre).unwrap(), &c.x, &c.e, &c.g));
+            }
             let q = Quartic { a: a.abs() + 0.1, b: b.abs() };
             err = err.max(closed_vs_auto(&Central::new(q, centre), &c.x, &c.e, &c.g));
         }
@@ -611,7 +614,9 @@ fn cosine_family_and_central_closed_forms_match_autodiff() {
         let h = Hyperbolic2::new(c.radius).unwrap();
         let mut err = 0.0f64;
         for centre in [Centre::hyperbolic2(&h), h2_centre(c.radius, &d)] {
-            err = err.max(cosine_err(&CosineFamily::new(a, b, centre).unwrap(), &c.x, &c.e, &c.g));
+            for a in [a, 0.0] {
+                err = err.max(cosine_err(&CosineFamily::new(a, b, centre).unwrap(), &c.x, &c.e, &c.g));
+            }
             let q = Quartic { a: a.abs() + 0.1, b: b.abs() };
             err = err.max(closed_vs_auto(&Central::new(q, centre), &c.x, &c.e, &c.g));
         }
@@ -625,6 +630,7 @@ fn cosine_family_and_central_closed_forms_match_autodiff() {
         |(c, a, b)| {
             let centre = Centre::sphere3(&Sphere3::new(c.radius).unwrap());
             let mut err = cosine_err(&CosineFamily::new(a, b, centre).unwrap(), &c.x, &c.e, &c.g());
+            err = err.max(cosine_err(&CosineFamily::new(0.0, b, centre).unwrap(), &c.x, &c.e, &c.g()));
             let q = Quartic { a: a.abs() + 0.1, b: b.abs() };
             err = err.max(closed_vs_auto(&Central::new(q, centre), &c.x, &c.e, &c.g()));
             Ok(err)
@@ -662,24 +668,28 @@ where
 }
 
 /// [`Pole`] is [`Centre`]'s default centre fixed at compile time: the same
-/// numbers bit for bit on S², H² and S³, at the pole itself included.
+/// numbers bit for bit on S², H² and S³, at the pole itself included, and
+/// at `α̂ = 0` (the gradient's branch that does not read `x`).
 #[test]
 fn cosine_family_about_a_pole_is_the_default_centre_bit_for_bit() {
     let ab = || (-5.0f64..5.0, -5.0f64..5.0);
     check("S2 pole vs centre", 256, (s2_cfg(0.0, PI), ab()), 0.0, |(c, (a, b))| {
         let s = Sphere2::new(c.radius).unwrap();
         let (p, q) = (CosineFamily::new(a, b, Pole::sphere2(&s)).unwrap(), CosineFamily::new(a, b, Centre::sphere2(&s)).unwrap());
-        Ok(pole_vs_centre(&p, &q, &c.x, &c.e, &c.g))
+        let (p0, q0) = (CosineFamily::new(0.0, b, Pole::sphere2(&s)).unwrap(), CosineFamily::new(0.0, b, Centre::sphere2(&s)).unwrap());
+        Ok(pole_vs_centre(&p, &q, &c.x, &c.e, &c.g).max(pole_vs_centre(&p0, &q0, &c.x, &c.e, &c.g)))
     });
     check("H2 pole vs centre", 256, (h2_cfg(0.0, 6.0), ab()), 0.0, |(c, (a, b))| {
         let h = Hyperbolic2::new(c.radius).unwrap();
         let (p, q) = (CosineFamily::new(a, b, Pole::hyperbolic2(&h)).unwrap(), CosineFamily::new(a, b, Centre::hyperbolic2(&h)).unwrap());
-        Ok(pole_vs_centre(&p, &q, &c.x, &c.e, &c.g))
+        let (p0, q0) = (CosineFamily::new(0.0, b, Pole::hyperbolic2(&h)).unwrap(), CosineFamily::new(0.0, b, Centre::hyperbolic2(&h)).unwrap());
+        Ok(pole_vs_centre(&p, &q, &c.x, &c.e, &c.g).max(pole_vs_centre(&p0, &q0, &c.x, &c.e, &c.g)))
     });
     check("S3 pole vs centre", 256, (s3_cfg(0.0, PI), -5.0f64..5.0, -5.0f64..5.0), 0.0, |(c, a, b)| {
         let s = Sphere3::new(c.radius).unwrap();
         let (p, q) = (CosineFamily::new(a, b, Pole::sphere3(&s)).unwrap(), CosineFamily::new(a, b, Centre::sphere3(&s)).unwrap());
-        Ok(pole_vs_centre(&p, &q, &c.x, &c.e, &c.g()))
+        let (p0, q0) = (CosineFamily::new(0.0, b, Pole::sphere3(&s)).unwrap(), CosineFamily::new(0.0, b, Centre::sphere3(&s)).unwrap());
+        Ok(pole_vs_centre(&p, &q, &c.x, &c.e, &c.g()).max(pole_vs_centre(&p0, &q0, &c.x, &c.e, &c.g())))
     });
 }
 

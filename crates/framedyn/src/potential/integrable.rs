@@ -85,12 +85,22 @@ impl<const N: usize, const E: usize, C: Axis<E>> Potential<N, E> for CosineFamil
 
     /// Closed form: `∂V/∂x = (2α̂ cos + β̂)/R · M₀ = (2α̂ Z/R² + β̂/R) M₀`,
     /// `M₀` the axial row, `Z = M₀·x`.
+    ///
+    /// For `α̂ = 0` (a uniform field, SPEC §5's problem) the gradient
+    /// `β̂/R · M₀` does not depend on `x`, and it is computed without reading
+    /// `x`: inside an integrator step the position of a stage is then not
+    /// computed where only the gradient needs it (the value still reads
+    /// `Z`). The same numbers as `(0·Z + β̂/R) M₀` for every finite `x`.
     #[inline(always)]
     fn gradient(&self, x: &SVector<f64, E>, _e: &SMatrix<f64, E, N>, _m: &SMatrix<f64, E, E>) -> Gradient<N, E> {
         let z = self.centre.axial_f64(x);
         let c = z * self.centre.centre().inv_radius();
         let value = c * (c * self.alpha + self.beta);
-        let dx = self.centre.scaled_row(self.grad_quad * z + self.grad_lin);
+        let dx = if self.grad_quad != 0.0 {
+            self.centre.scaled_row(self.grad_quad * z + self.grad_lin)
+        } else {
+            self.centre.scaled_row(self.grad_lin)
+        };
         Gradient { value, dx, de: SMatrix::zeros() }
     }
 }
