@@ -305,7 +305,9 @@ impl<const E: usize> Centre<E> {
 /// Both give the same numbers bit for bit at the poles (the row `M₀` of a
 /// default centre is a coordinate unit vector); a [`Pole`] lets the compiler
 /// drop every product that only feeds the other coordinates — at an RKMK
-/// stage, most of the stage frame `Q₀ exp(θ)` (see `docs/performance.md`).
+/// stage, most of the stage frame `Q₀ exp(θ)`, since the models' force
+/// ([`position_force`](crate::dynamics::position_force)) skips the
+/// gradient's zero entries (see `docs/performance.md`).
 pub trait Axis<const E: usize>: core::fmt::Debug + Clone + Copy + PartialEq + Send + Sync {
     /// The centre as a [`Centre`] (radius, geometry, point, distance).
     fn centre(&self) -> &Centre<E>;
