@@ -16,6 +16,7 @@ mod integrators;
 mod matrix_groups;
 mod potentials;
 mod scenes;
+mod scenes_golden;
 mod sphere;
 mod sphere3;
 mod splitting;
