@@ -3,7 +3,7 @@
 
 use nalgebra::{DMatrix, SMatrix};
 
-use super::gl::matfun::{commutator, det, dexp_inv_matrix, dexp_matrix, skew_index, skew_part, Basis};
+use super::matrix::{commutator, det, dexp_inv_matrix, dexp_matrix, skew_index, skew_part, Basis};
 use super::son::{so_defect, so_exp, so_log};
 use super::{LieGroup, SoN};
 use crate::{Error, Result};

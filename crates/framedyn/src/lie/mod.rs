@@ -17,6 +17,7 @@
 
 pub mod co;
 pub mod gl;
+pub(crate) mod matrix;
 pub mod product;
 pub mod rn;
 pub mod sl;

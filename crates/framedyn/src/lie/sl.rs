@@ -3,7 +3,7 @@
 
 use nalgebra::{DMatrix, SMatrix};
 
-use super::gl::matfun::{
+use super::matrix::{
     commutator, det, dexp_inv_matrix, dexp_matrix, expm, logm, nan_matrix, norm1, traceless_part, Basis, Lu,
 };
 use super::LieGroup;

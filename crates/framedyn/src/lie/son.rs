@@ -4,7 +4,7 @@
 
 use nalgebra::{DMatrix, SMatrix};
 
-use super::gl::matfun::{
+use super::matrix::{
     commutator, det, dexp_inv_matrix, dexp_matrix, expm, logm, orthogonality_defect, polar_factor, skew_index,
     skew_part, Basis,
 };
