@@ -14,6 +14,19 @@
 //!   `dexp_inv` is its inverse, `Σ_k B_k/k! ad_a^k v` (Bernoulli numbers,
 //!   B₁ = −½), convergent for the spectral radius of `ad_a` below 2π.
 //!   For `ġ = g·ξ` with `g = g₀ exp(a)` one has `ȧ = dexp_inv(−a, ξ)`.
+//!
+//! ## Layout
+//! - closed forms: [`so2`], [`so3`], [`su2`] (unit quaternions), [`so4`],
+//!   [`so12`] (the Lorentz group of H²), with the coefficient functions of
+//!   their exponentials in [`special`];
+//! - general-`n` matrix groups: [`gl`] (GL⁺(n)), [`sl`] (SL(n)), [`son`]
+//!   (SO(n)), [`co`] (CO⁺(n)); each file holds its group only. The matrix
+//!   functions they share (LU, exponential, `dexp` and `dexp⁻¹`, real Schur
+//!   form, square root, logarithm, polar factor) are in the crate-internal
+//!   module `matrix` (directory `lie/matrix/`, one file per function family,
+//!   each citing the literature it follows);
+//! - [`rn`] (the additive group ℝᵏ) and [`product`] (direct products);
+//! - this file: the traits and the generic `dexp`/`dexp⁻¹` series.
 
 pub mod co;
 pub mod gl;

@@ -1,6 +1,7 @@
 //! SO(n) for general `n`: the fibre of the infinitesimal gyroscope in `n`
 //! dimensions. (SO(2), SO(3) and SO(4) also have dedicated closed-form types;
-//! this one works for every `n` with the matrix functions of [`gl`](super::Gl).)
+//! this one works for every `n` with the matrix functions of `lie/matrix/`,
+//! which [`Gl`](super::Gl) uses too.)
 
 use nalgebra::{DMatrix, SMatrix};
 

@@ -16,12 +16,12 @@
 //! | `lu.rs` | LU with partial pivoting ([`Lu`]), determinant ([`det`]) | |
 //! | `norm.rs` | 1-norm, max-norm, Frobenius norm | |
 //! | `algebra.rs` | gl(n): commutator, skew and traceless parts, so(n) basis order | |
-//! | `expm.rs` | matrix exponential, scaling and squaring with Padé ([`expm`]) | \[H05\] |
+//! | `expm.rs` | matrix exponential, scaling and squaring with Padé ([`expm`](fn@expm)) | \[H05\] |
 //! | `dexp.rs` | `dexp` and `dexp⁻¹` on gl(n) and so(n) ([`dexp_matrix`], [`dexp_inv_matrix`]) | \[IMNZ00\] |
 //! | `schur.rs` | real Schur form (own Francis QR), its diagonal blocks | \[GVL13\] |
 //! | `sqrtm.rs` | principal square root: Denman–Beavers, real Schur method | \[CHKL01\], \[H08\] |
 //! | `log_pade.rs` | Padé approximants of `log(I + X)` in partial fractions | \[H01\], \[AH12\] |
-//! | `logm.rs` | principal logarithm, inverse scaling and squaring ([`logm`]) | \[AH12\], \[H08\] |
+//! | `logm.rs` | principal logarithm, inverse scaling and squaring ([`logm`](fn@logm)) | \[AH12\], \[H08\] |
 //! | `polar.rs` | orthogonal polar factor, nearest rotation ([`polar_factor`]) | \[BB71\], \[H08\] |
 //!
 //! `lu`, `norm` and `algebra` underlie the rest; `dexp` builds on `expm` and

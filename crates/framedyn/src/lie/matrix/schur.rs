@@ -53,8 +53,6 @@ fn reflect_cols<const N: usize>(m: &mut Mat<N>, v: &[f64; 3], beta: f64, len: us
 /// `|h_{k,k−1}| ≤ ε(|h_kk| + |h_{k−1,k−1}|)` and an exceptional shift every
 /// 10 iterations. `None` if it has not converged after `30·max(10, N)`
 /// iterations per eigenvalue (or for non-finite input).
-///
-/// [GVL13] G. H. Golub, C. F. Van Loan, *Matrix Computations*, 4th ed. (2013).
 pub(crate) fn real_schur<const N: usize>(a: &Mat<N>) -> Option<(Mat<N>, Mat<N>)> {
     if !a.iter().all(|x| x.is_finite()) {
         return None;

@@ -34,7 +34,7 @@ const DB_MAX_ITER: usize = 100;
 /// `‖M_k − I‖₁ ≤ 2·10⁻⁸` (then `‖M − I‖ ≲ 10⁻¹⁶` and `Y = A^{1/2} M^{1/2}`).
 /// Requires no eigenvalue of `A` on the closed negative real axis; its
 /// first step forms `(2I + M + M⁻¹)/4`, which cancels for eigenvalues near
-/// −1 — see [`logm`] for when it is used.
+/// −1 — see [`logm`](fn@super::logm) for when it is used.
 pub(crate) fn sqrtm_db<const N: usize>(a: &Mat<N>) -> Result<Mat<N>> {
     let id = Mat::<N>::identity();
     let mut m = *a;
