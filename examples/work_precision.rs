@@ -40,7 +40,8 @@ use framedyn::coords::{accelerations, ambient_state, energy as coords_energy, Gy
 use framedyn::dynamics::{Gyroscope2Model, System};
 use framedyn::manifold::Sphere2;
 use framedyn::method::baseline::{ChartSystem, CoordinateRk};
-use framedyn::method::{GroupNumerics, ImplicitMidpoint, Method, Rkmk, Splittable, Splitting};
+use framedyn::dynamics::Splittable;
+use framedyn::method::{GroupNumerics, ImplicitMidpoint, Method, Rkmk, Splitting};
 use framedyn::solve::Problem;
 use framedyn::potential::{Centre, CosineFamily};
 use framedyn::solve::{solve, Options, Save, Stepper};

@@ -12,7 +12,7 @@ use framedyn::dynamics::affine::AffineModel;
 use framedyn::dynamics::point::bundle_element_at;
 use framedyn::dynamics::{Gyroscope2Model, System};
 use framedyn::manifold::{Manifold, Sphere2, Torus2};
-use framedyn::method::{GroupNumerics, ImplicitMidpoint, Method, Rkmk, StepFault, StepRequest};
+use framedyn::method::{GroupNumerics, ImplicitMidpoint, Method, MethodError, Rkmk, StepFault, StepRequest};
 use framedyn::potential::{Elastic, Sum};
 use framedyn::solve::{SolveError, Stepper};
 use nalgebra::{Matrix2, Vector2};
@@ -164,6 +164,7 @@ fn newton_failure_is_a_typed_error() {
         other => panic!("expected NoConvergence, got {other:?}"),
     }
     assert_eq!(st.t(), 0.5, "a failed step must not advance");
-    assert!(matches!(ImplicitMidpoint::new().with_newton(0.0, 5), Err(SolveError::InvalidParameter { field: "newton_tol", .. })));
-    assert!(matches!(ImplicitMidpoint::new().with_newton(1e-12, 0), Err(SolveError::InvalidParameter { field: "max_iter", .. })));
+    assert!(matches!(ImplicitMidpoint::new().with_newton(0.0, 5), Err(MethodError::InvalidParameter { field: "newton_tol", .. })));
+    assert!(matches!(ImplicitMidpoint::new().with_newton(1e-12, 0), Err(MethodError::InvalidParameter { field: "newton_max_iter", .. })));
+    assert!(matches!(ImplicitMidpoint::new().with_newton(1e-12, 1001), Err(MethodError::InvalidParameter { field: "newton_max_iter", .. })));
 }

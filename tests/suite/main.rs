@@ -15,6 +15,7 @@ mod hyperbolic;
 mod integrators;
 mod matrix_groups;
 mod potentials;
+mod registry;
 mod scenes;
 mod scenes_golden;
 mod sphere;

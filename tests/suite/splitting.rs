@@ -13,7 +13,8 @@ use framedyn::body::{Gyroscope, Point, Signature};
 use framedyn::dynamics::{Gyroscope2Model, Gyroscope3Model, PointModel, System};
 use framedyn::lie::{AlgebraVector, LieGroup, So3};
 use framedyn::manifold::{Hyperbolic2, Manifold, Sphere2, Sphere3};
-use framedyn::method::{GroupNumerics, Method, Rkmk, Splittable, Splitting};
+use framedyn::dynamics::Splittable;
+use framedyn::method::{GroupNumerics, Method, Rkmk, Splitting};
 use framedyn::potential::{Potential, Scalar};
 use framedyn::solve::Stepper;
 use nalgebra::{Matrix3, Matrix4, SMatrix, SVector, Vector2, Vector3, Vector4};
@@ -477,16 +478,16 @@ fn splitting_steps_are_symplectic() {
 // ---------------------------------------------------------------------------
 
 mod frame_rotation {
+    use framedyn::bundle::FrameBundle;
     use framedyn::lie::{LieGroup, So12, So3};
     use framedyn::manifold::{Hyperbolic2, Sphere2};
-    use framedyn::method::splitting::PlanarFrameRotation;
     use nalgebra::{Matrix2, Vector3};
     use proptest::prelude::*;
 
     const EPS: Matrix2<f64> = Matrix2::new(0.0, -1.0, 1.0, 0.0);
 
     /// `rotate_frame(g, cos θ, sin θ)` against `g·exp(θ·vertical(g, ε))`.
-    fn defect<B: PlanarFrameRotation>(b: &B, g: &B::Group, theta: f64) -> f64 {
+    fn defect<B: FrameBundle<2, 3>>(b: &B, g: &B::Group, theta: f64) -> f64 {
         let fast = b.rotate_frame(g, theta.cos(), theta.sin());
         let slow = g.compose(&B::Group::exp(&(b.vertical(g, &EPS) * theta)));
         (fast.to_matrix() - slow.to_matrix()).amax() / slow.to_matrix().amax()

@@ -5,6 +5,7 @@
 //! framedyn scenes                # list the embedded example scenes
 //! framedyn scenes show NAME      # print one (a starting point for your own)
 //! framedyn validate SCENE        # check a scene without running it
+//! framedyn methods               # the integration methods (the registry)
 //! ```
 //!
 //! `SCENE` is a TOML or JSON file, or the name of an embedded scene; without
@@ -22,7 +23,7 @@
 //! holds the part computed so far).
 #![deny(missing_docs)]
 
-mod output;
+pub mod output;
 
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -74,6 +75,25 @@ enum Command {
         /// Scene file or embedded scene name.
         scene: String,
     },
+    /// List the integration methods a scene's `[method] name` can take.
+    Methods,
+}
+
+/// The method list of `framedyn methods` and of `framedyn run --help`,
+/// from the registry: name, order, stepping, what the method needs.
+fn methods_text() -> String {
+    use framedyn::method::METHODS;
+    let width = METHODS.iter().map(|m| m.name.len()).max().unwrap_or(0);
+    let mut out = String::new();
+    for m in METHODS {
+        let order = match m.embedded_order {
+            Some(q) => format!("{}({q})", m.order),
+            None => m.order.to_string(),
+        };
+        let stepping = if m.adaptive { "h or rtol/atol" } else { "h" };
+        out.push_str(&format!("  {:width$}  {:<28} order {:<5} {:<14} {}\n", m.name, m.display, order, stepping, m.needs.describe()));
+    }
+    out
 }
 
 #[derive(Subcommand, Debug)]
@@ -123,7 +143,10 @@ where
     I: IntoIterator<Item = T>,
     T: Into<std::ffi::OsString> + Clone,
 {
-    let cli = match Cli::try_parse_from(args) {
+    use clap::{CommandFactory, FromArgMatches};
+    let after = format!("Methods ([method] name in a scene; `framedyn methods`):\n{}", methods_text());
+    let command = Cli::command().mut_subcommand("run", |c| c.after_long_help(after.clone())).mut_subcommand("validate", |c| c.after_long_help(after.clone()));
+    let cli = match command.try_get_matches_from(args).and_then(|m| Cli::from_arg_matches(&m)) {
         Ok(c) => c,
         Err(e) => {
             let _ = e.print();
@@ -166,6 +189,10 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
                 format!("no embedded scene `{name}`; available: {}", EXAMPLES.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")),
             )),
         },
+        Command::Methods => {
+            print!("{}", methods_text());
+            Ok(())
+        }
         Command::Validate { scene } => {
             let (s, origin) = load(&scene)?;
             s.validate().map_err(|e| (EXIT_INVALID, format!("{origin}: invalid scene: {e}")))?;

@@ -20,7 +20,8 @@ pub struct FileSink {
     raw: Option<PathBuf>,
     format: Format,
     out: Option<BufWriter<File>>,
-    columns: Vec<Column>,
+    names: Vec<String>,
+    units: Vec<String>,
     rows: u64,
     line: String,
     events: Vec<EventHit>,
@@ -53,7 +54,8 @@ impl FileSink {
             raw,
             format,
             out: Some(BufWriter::with_capacity(1 << 16, file)),
-            columns: Vec::new(),
+            names: Vec::new(),
+            units: Vec::new(),
             rows: 0,
             line: String::new(),
             events: Vec::new(),
@@ -80,7 +82,7 @@ impl FileSink {
         file.sync_all()?;
         drop(file);
         if let (Format::Npz, Some(raw)) = (self.format, &self.raw) {
-            write_npz(&self.tmp, raw, &self.columns, self.rows)?;
+            write_npz(&self.tmp, raw, &self.names, &self.units, self.rows)?;
             let _ = fs::remove_file(raw);
         }
         fs::rename(&self.tmp, &self.target)?;
@@ -109,8 +111,42 @@ impl FileSink {
 
     /// The record columns.
     pub fn column_names(&self) -> Vec<String> {
-        self.columns.iter().map(|c| c.name.clone()).collect()
+        self.names.clone()
     }
+
+    /// Starts the file with the column names and units (the CSV header).
+    pub fn set_columns(&mut self, names: &[String], units: &[String]) -> io::Result<()> {
+        if names.len() != units.len() {
+            return Err(io::Error::new(io::ErrorKind::InvalidInput, format!("{} column names but {} units", names.len(), units.len())));
+        }
+        self.names = names.to_vec();
+        self.units = units.to_vec();
+        if self.format == Format::Csv {
+            let header = names.join(",");
+            let out = self.out()?;
+            writeln!(out, "{header}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Writes `rows` (row-major, `names.len()` values per record) to `target`
+/// in `format`, exactly as `framedyn run` writes a run's records (the same
+/// sink: header, number format, `.npz` layout, atomic rename). The Python
+/// module's `Solution.save` calls it.
+pub fn write_records(target: &Path, format: Format, names: &[String], units: &[String], rows: &[f64]) -> io::Result<()> {
+    let n = names.len();
+    if n == 0 && !rows.is_empty() || n > 0 && rows.len() % n != 0 {
+        return Err(io::Error::new(io::ErrorKind::InvalidInput, format!("{} values do not make whole records of {n} columns", rows.len())));
+    }
+    let mut sink = FileSink::create(target, format)?;
+    sink.set_columns(names, units)?;
+    if n > 0 {
+        for row in rows.chunks_exact(n) {
+            sink.record(row)?;
+        }
+    }
+    sink.finish()
 }
 
 /// The events file of the output `target`: `NAME.events.csv` beside it
@@ -151,13 +187,9 @@ impl RecordSink for FileSink {
     }
 
     fn columns(&mut self, columns: &[Column]) -> io::Result<()> {
-        self.columns = columns.to_vec();
-        if self.format == Format::Csv {
-            let header = columns.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(",");
-            let out = self.out()?;
-            writeln!(out, "{header}")?;
-        }
-        Ok(())
+        let names: Vec<String> = columns.iter().map(|c| c.name.clone()).collect();
+        let units: Vec<String> = columns.iter().map(|c| c.unit.to_string()).collect();
+        self.set_columns(&names, &units)
     }
 
     fn record(&mut self, row: &[f64]) -> io::Result<()> {
@@ -234,14 +266,14 @@ fn npy_strings(items: &[&str]) -> Vec<u8> {
 
 /// Writes the archive: `data` (rows × columns, float64), `columns` and
 /// `units` (strings).
-fn write_npz(path: &Path, raw: &Path, columns: &[Column], rows: u64) -> io::Result<()> {
+fn write_npz(path: &Path, raw: &Path, names: &[String], units: &[String], rows: u64) -> io::Result<()> {
     use zip::write::SimpleFileOptions;
     let file = File::create(path)?;
     let mut zip = zip::ZipWriter::new(BufWriter::new(file));
     let opts = SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored).large_file(true);
     let to_io = |e: zip::result::ZipError| io::Error::other(e.to_string());
     zip.start_file("data.npy", opts).map_err(to_io)?;
-    zip.write_all(&npy_header("<f8", &format!("({rows}, {})", columns.len())))?;
+    zip.write_all(&npy_header("<f8", &format!("({rows}, {})", names.len())))?;
     let mut reader = BufReader::with_capacity(1 << 16, File::open(raw)?);
     let mut buf = vec![0u8; 1 << 16];
     loop {
@@ -251,8 +283,8 @@ fn write_npz(path: &Path, raw: &Path, columns: &[Column], rows: u64) -> io::Resu
         }
         zip.write_all(&buf[..n])?;
     }
-    let names: Vec<&str> = columns.iter().map(|c| c.name.as_str()).collect();
-    let units: Vec<&str> = columns.iter().map(|c| c.unit).collect();
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    let units: Vec<&str> = units.iter().map(String::as_str).collect();
     zip.start_file("columns.npy", opts).map_err(to_io)?;
     zip.write_all(&npy_strings(&names))?;
     zip.start_file("units.npy", opts).map_err(to_io)?;

@@ -10,6 +10,7 @@
 
 use pyo3::prelude::*;
 
+mod catalog;
 mod errors;
 mod run;
 mod scene;
@@ -24,6 +25,10 @@ fn _framedyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::run_batch, m)?)?;
     m.add_function(wrap_pyfunction!(errors::raise_for_test, m)?)?;
     m.add_function(wrap_pyfunction!(cli_main, m)?)?;
+    m.add_function(wrap_pyfunction!(catalog::methods, m)?)?;
+    m.add_function(wrap_pyfunction!(catalog::manifolds, m)?)?;
+    m.add_function(wrap_pyfunction!(catalog::initial_fields, m)?)?;
+    m.add_function(wrap_pyfunction!(catalog::write_records, m)?)?;
     Ok(())
 }
 

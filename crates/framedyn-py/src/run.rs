@@ -198,7 +198,12 @@ fn user_events(events: &[PyEvent], names: Vec<String>, slot: &ErrorSlot) -> Vec<
                     }
                 })
             });
-            SceneEvent { name: e.name.clone(), g, direction: e.direction, terminal: e.terminal }
+            let event = SceneEvent::from_arc(e.name.clone(), g).direction(e.direction);
+            if e.terminal {
+                event.terminal()
+            } else {
+                event
+            }
         })
         .collect()
 }
@@ -208,6 +213,7 @@ struct RunOutput {
     sink: FlatSink,
     summary: RunSummary,
     error: Option<RunError>,
+    frame_shape: (usize, usize),
 }
 
 /// Builds and runs `scene` (no GIL needed unless a user potential is called).
@@ -226,9 +232,10 @@ fn run_scene(
         }
     }
     let mut sink = FlatSink::default();
+    let frame_shape = sim.frame_shape();
     Ok(match sim.run(&mut sink, cancel, progress) {
-        Ok(summary) => RunOutput { sink, summary, error: None },
-        Err(failure) => RunOutput { sink, summary: failure.summary, error: Some(failure.error) },
+        Ok(summary) => RunOutput { sink, summary, error: None, frame_shape },
+        Err(failure) => RunOutput { sink, summary: failure.summary, error: Some(failure.error), frame_shape },
     })
 }
 
@@ -244,13 +251,15 @@ fn stop_kind(stop: &SceneStop) -> &'static str {
 
 /// The Python form of a run: `{"data": (rows, columns) array, "columns",
 /// "units", "summary": {...}}`.
-fn to_py<'py>(py: Python<'py>, sink: FlatSink, summary: &RunSummary) -> PyResult<Bound<'py, PyDict>> {
+fn to_py<'py>(py: Python<'py>, sink: FlatSink, summary: &RunSummary, frame_shape: (usize, usize)) -> PyResult<Bound<'py, PyDict>> {
     let ncols = sink.columns.len();
     let data = PyArray1::from_vec(py, sink.data).reshape([sink.rows, ncols])?;
     let d = PyDict::new(py);
     d.set_item("data", data)?;
     d.set_item("columns", sink.columns.iter().map(|c| c.name.clone()).collect::<Vec<_>>())?;
     d.set_item("units", sink.columns.iter().map(|c| c.unit).collect::<Vec<_>>())?;
+    d.set_item("groups", sink.columns.iter().map(|c| c.group.map(|g| g.name())).collect::<Vec<_>>())?;
+    d.set_item("frame_shape", frame_shape)?;
     let ev = PyDict::new(py);
     ev.set_item("name", sink.events.iter().map(|e| e.name.clone()).collect::<Vec<_>>())?;
     ev.set_item("index", sink.events.iter().map(|e| e.index).collect::<Vec<_>>())?;
@@ -290,7 +299,7 @@ fn finish<'py>(py: Python<'py>, out: Result<Result<RunOutput, SceneError>, Strin
         Ok(Ok(out)) => out,
     };
     let user_error = slot.and_then(|s| lock(s).take());
-    let result = to_py(py, out.sink, &out.summary)?;
+    let result = to_py(py, out.sink, &out.summary, out.frame_shape)?;
     match (out.error, user_error) {
         (None, None) => Ok(result),
         (error, Some(user)) => {
@@ -461,8 +470,19 @@ impl PyStepper {
 
     /// `n` steps of size `h`; stops at the first failure (the steps before
     /// it stay done).
+    ///
+    /// Ctrl-C is noticed between chunks of at most 4096 steps
+    /// (`KeyboardInterrupt`; the chunks before it stay done).
     fn advance(&self, py: Python<'_>, h: f64, n: usize) -> PyResult<()> {
-        self.with(py, |s| s.advance(h, n))
+        const CHUNK: usize = 4096;
+        let mut left = n;
+        while left > 0 {
+            let k = left.min(CHUNK);
+            self.with(py, |s| s.advance(h, k))?;
+            left -= k;
+            py.check_signals()?;
+        }
+        Ok(())
     }
 
     /// Current time.

@@ -154,6 +154,18 @@ impl FrameBundle<2, 3> for Hyperbolic2 {
     fn curvature_at(&self, _g: &So12) -> f64 {
         self.curvature()
     }
+
+    /// Constant curvature: exact free flows.
+    fn exact_free_flow(&self) -> bool {
+        true
+    }
+
+    /// `vertical(ε) = (0, 0, 1)` (the rotation generator of so(1,2)): the
+    /// spacelike columns `λ₀, λ₁` of `Λ` rotate like `q₁, q₂` on S².
+    #[inline]
+    fn rotate_frame(&self, g: &So12, cos: f64, sin: f64) -> So12 {
+        So12::new_unchecked(super::rotate_columns(g.matrix(), 0, 1, cos, sin))
+    }
 }
 
 /// An element of the orthonormal frame bundle of H²(R) (SPEC §3.2, §7), as

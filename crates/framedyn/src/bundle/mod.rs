@@ -78,4 +78,60 @@ pub trait FrameBundle<const N: usize, const E: usize>: Manifold<N, E> {
     /// orthonormal frame is `R̂_{abcd} = K(δ_ac δ_bd − δ_ad δ_bc)`, so `K` is
     /// all the spin–curvature force of (a59) needs.
     fn curvature_at(&self, g: &Self::Group) -> f64;
+
+    /// True if the horizontal lift and the vertical generator do not depend
+    /// on the bundle element and are equivariant,
+    /// `Ad_{exp(τ·vertical(w))} horizontal_lift(u) = horizontal_lift(exp(τw)u)`:
+    /// a manifold of constant curvature acting on itself (S², H², S³). Then
+    /// the free motion has the closed form [`free_translation`] and the
+    /// splitting methods apply (see [`dynamics::split`](crate::dynamics::split)).
+    /// Default `false` (the curvature of T² varies).
+    fn exact_free_flow(&self) -> bool {
+        false
+    }
+
+    /// `g·exp(θ·vertical(g, ε))`, the rotation of the frame in the
+    /// `(q₁, q₂)` plane by `θ` (`ε = [[0, −1], [1, 0]]` in that plane), from
+    /// `cos θ` and `sin θ`. The default forms the exponential; S² and H²
+    /// rotate two columns of the group matrix instead, so that the
+    /// gyroscope's drift shares one `sin_cos` between frame and velocity.
+    fn rotate_frame(&self, g: &Self::Group, cos: f64, sin: f64) -> Self::Group {
+        let eps = SMatrix::<f64, N, N>::from_fn(|i, j| match (i, j) {
+            (1, 0) => 1.0,
+            (0, 1) => -1.0,
+            _ => 0.0,
+        });
+        g.compose(&Self::Group::exp(&(self.vertical(g, &eps) * sin.atan2(cos))))
+    }
+}
+
+/// The free translation of the bundle element:
+/// `g(t) = g₀·exp(t(ξ(u₀) + R))·exp(−tR)`, `R = vertical(g₀, w)`, for the
+/// velocity `u(t) = exp(tw)u₀` in the parallel frame (the gyroscope's
+/// spin–curvature rotation `w`; `w = 0` for a point: the geodesic flow
+/// `g₀ exp(t ξ(u₀))`). Two exponentials. Exact when
+/// [`FrameBundle::exact_free_flow`] (derivation in
+/// [`dynamics::split`](crate::dynamics::split)); elsewhere it is only the
+/// flow of the frozen lift.
+pub fn free_translation<B: FrameBundle<N, E>, const N: usize, const E: usize>(
+    bundle: &B,
+    g0: &B::Group,
+    u0: &SVector<f64, N>,
+    w: &SMatrix<f64, N, N>,
+    h: f64,
+) -> B::Group {
+    let xi = bundle.horizontal_lift(g0, u0);
+    let r = bundle.vertical(g0, w);
+    g0.compose(&B::Group::exp(&((xi + r) * h))).compose(&B::Group::exp(&(r * (-h))))
+}
+
+/// `m` with columns `i`, `j` replaced by `c·mᵢ + s·mⱼ`, `c·mⱼ − s·mᵢ`: the
+/// closed-form [`FrameBundle::rotate_frame`] of S² and H².
+#[inline]
+pub(crate) fn rotate_columns(m: &nalgebra::Matrix3<f64>, i: usize, j: usize, cos: f64, sin: f64) -> nalgebra::Matrix3<f64> {
+    let mut out = *m;
+    let (a, b): (nalgebra::Vector3<f64>, nalgebra::Vector3<f64>) = (m.column(i).into(), m.column(j).into());
+    out.set_column(i, &(a * cos + b * sin));
+    out.set_column(j, &(b * cos - a * sin));
+    out
 }

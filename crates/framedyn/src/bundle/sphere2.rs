@@ -136,4 +136,16 @@ impl FrameBundle<2, 3> for Sphere2 {
     fn curvature_at(&self, _g: &So3) -> f64 {
         self.curvature()
     }
+
+    /// Constant curvature: exact free flows.
+    fn exact_free_flow(&self) -> bool {
+        true
+    }
+
+    /// `vertical(ε) = e₁` (rotation about the normal `n = Q e₀`): columns
+    /// `q₁, q₂` of `Q` rotate, `q₁ ← c q₁ + s q₂`, `q₂ ← −s q₁ + c q₂`.
+    #[inline]
+    fn rotate_frame(&self, g: &So3, cos: f64, sin: f64) -> So3 {
+        So3::new_unchecked(super::rotate_columns(g.matrix(), 1, 2, cos, sin))
+    }
 }

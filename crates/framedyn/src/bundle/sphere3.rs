@@ -149,4 +149,9 @@ impl FrameBundle<3, 4> for Sphere3 {
     fn curvature_at(&self, _g: &So4) -> f64 {
         self.inv_radius() * self.inv_radius()
     }
+
+    /// Constant curvature: exact free flows.
+    fn exact_free_flow(&self) -> bool {
+        true
+    }
 }

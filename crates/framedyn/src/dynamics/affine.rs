@@ -1116,6 +1116,20 @@ where
     }
 }
 
+/// Affine bodies have no exact free flow on a curved manifold: the
+/// splitting methods refuse them.
+impl<B, V, C, const N: usize, const E: usize> crate::dynamics::SplitDispatch for AffineBodyModel<B, V, C, N, E>
+where
+    B: FrameBundle<N, E>,
+    V: Potential<N, E>,
+    C: InternalConstraint<N>,
+{
+    type Split = crate::dynamics::NoSplit<BodyState<B, C, N, E>>;
+    fn as_splittable(&self) -> Option<&Self::Split> {
+        None
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -11,6 +11,7 @@ use super::point::{
 };
 use crate::body::{Gyroscope, Signature};
 use crate::bundle::FrameBundle;
+use crate::dynamics::split::{SplitDispatch, Splittable};
 use crate::dynamics::{position_force, System};
 use crate::error::finite;
 use crate::lie::{LieGroup, Product, ProductAlgebra, Rn, So2};
@@ -404,5 +405,66 @@ where
             finite_defect(y.1 .0.iter()),
             finite_defect([y.0 .1.cos(), y.0 .1.sin()].iter()),
         ])
+    }
+}
+
+
+// -- splitting ---------------------------------------------------------------
+
+/// The kick and the exact free flow of the n = 2 gyroscope (the drift
+/// derivation is in [`split`](super::split)); exact on S² and H² (both
+/// signatures).
+impl<B, P> Splittable for Gyroscope2Model<B, P>
+where
+    B: FrameBundle<2, 3>,
+    P: Potential<2, 3>,
+{
+    /// `u ← u + hF̂/m`, `s ← s − h ∂V/∂α`.
+    #[inline(always)]
+    fn kick(&self, y: &Self::State, h: f64) -> Self::State {
+        let (f, torque) = self.potential_forces(y);
+        let w = y.1 .0;
+        let a = f * (h * self.inv_mass());
+        Product(y.0, Rn(Vector3::new(w[0] + a[0], w[1] + a[1], w[2] + h * torque)))
+    }
+
+    /// `g ← g₀ exp(h(ξ(u₀) + R)) exp(−hR)`, `R = vertical((Ks/m)ε)`
+    /// (the formula of [`free_translation`](crate::bundle::free_translation), its second factor by
+    /// [`FrameBundle::rotate_frame`]); `u ← U(hKs/m) u₀` with the
+    /// same `sin_cos`; `ρ ← ρ₀ U(hσs/I)`; `s` unchanged.
+    #[inline(always)]
+    fn drift(&self, y: &Self::State, h: f64) -> Self::State {
+        let (g, rho) = (&y.0 .0, &y.0 .1);
+        let w = y.1 .0;
+        let (u, s) = (Vector2::new(w[0], w[1]), w[2]);
+        let b = self.bundle();
+        let c = b.curvature_at(g) * s * self.inv_mass();
+        // vertical(cε) = c·vertical(ε) (linear): the product waits for `c` only.
+        let xi = b.horizontal_lift(g, &u) + b.vertical(g, &EPS) * c;
+        let (sn, cs) = (h * c).sin_cos();
+        let g1 = b.rotate_frame(&g.compose(&B::Group::exp(&(xi * h))), cs, -sn);
+        let u1 = Vector2::new(cs * u[0] - sn * u[1], sn * u[0] + cs * u[1]);
+        let rho1 = rho.compose(&So2::exp(&Vector1::new(h * self.angular_velocity(y))));
+        Product(Product(g1, rho1), Rn(Vector3::new(u1[0], u1[1], s)))
+    }
+
+    fn has_free_flow(&self) -> bool {
+        self.bundle().exact_free_flow()
+    }
+
+    fn drift_exps(&self) -> u32 {
+        3
+    }
+}
+
+impl<B, P> SplitDispatch for Gyroscope2Model<B, P>
+where
+    B: FrameBundle<2, 3>,
+    P: Potential<2, 3>,
+{
+    type Split = Self;
+    #[inline(always)]
+    fn as_splittable(&self) -> Option<&Self> {
+        self.has_free_flow().then_some(self)
     }
 }

@@ -2,7 +2,7 @@
 //! (a184)–(a186); SPEC §7). See [`Gyroscope3Model`] and the derivation in
 //! [`gyroscope`](super::gyroscope).
 
-use nalgebra::{Matrix3, Matrix4, Matrix4x3, Vector3, Vector4, Vector6};
+use nalgebra::{Matrix3, Matrix4, Matrix4x3, SymmetricEigen, Vector3, Vector4, Vector6};
 
 use super::gyroscope::signature_sign;
 use super::point::{
@@ -10,7 +10,8 @@ use super::point::{
     rename_field, tangent_components, STATE_TOLERANCE,
 };
 use crate::body::{Gyroscope, Signature};
-use crate::bundle::FrameBundle;
+use crate::bundle::{free_translation, FrameBundle};
+use crate::dynamics::split::{SplitDispatch, Splittable, YOSHIDA6};
 use crate::dynamics::{position_force, System};
 use crate::error::finite;
 use crate::lie::{LieGroup, Product, ProductAlgebra, Rn, So3};
@@ -446,4 +447,133 @@ where
 #[inline]
 fn join(a: &Vector3<f64>, b: &Vector3<f64>) -> Vector6<f64> {
     Vector6::new(a[0], a[1], a[2], b[0], b[1], b[2])
+}
+
+// -- splitting ---------------------------------------------------------------
+
+/// The principal decomposition of the inertia operator used by the internal
+/// drift of the n = 3 gyroscope: reference moment `I₁`, the two other axes
+/// `P₂`, `P₃` with `c_k = σ(1/I_k − 1/I₁)`, and whether `c₂ = 0` (symmetric).
+#[derive(Debug, Clone, Copy)]
+struct InternalSplit {
+    /// `σ/I₁`.
+    casimir: f64,
+    axes: [Vector3<f64>; 2],
+    c: [f64; 2],
+    symmetric: bool,
+}
+
+fn internal_split(op: &Matrix3<f64>, sigma: f64) -> InternalSplit {
+    let eig = SymmetricEigen::new(*op);
+    let ev = eig.eigenvalues;
+    let scale = ev.amax();
+    // The pair of closest moments: I₁ := one of them, the odd one out is P₃.
+    let pairs = [(0usize, 1usize, 2usize), (1, 2, 0), (0, 2, 1)];
+    let mut best = pairs[0];
+    let mut gap = f64::INFINITY;
+    for p in pairs {
+        let d = (ev[p.0] - ev[p.1]).abs();
+        if d < gap {
+            gap = d;
+            best = p;
+        }
+    }
+    let (i1, i2, i3) = best;
+    let symmetric = gap <= 1e-14 * scale;
+    let c2 = if symmetric { 0.0 } else { sigma * (1.0 / ev[i2] - 1.0 / ev[i1]) };
+    let c3 = sigma * (1.0 / ev[i3] - 1.0 / ev[i1]);
+    let col = |i: usize| eig.eigenvectors.column(i).into_owned();
+    InternalSplit { casimir: sigma / ev[i1], axes: [col(i2), col(i3)], c: [c2, c3], symmetric }
+}
+
+impl InternalSplit {
+    /// `ρ ← ρ·exp(h c_k (P_k·M) hat(P_k))`, `M = ρᵀπ`.
+    #[inline]
+    fn axis_rotation(&self, rho: &So3, pi: &Vector3<f64>, k: usize, h: f64) -> So3 {
+        let m = rho.matrix().transpose() * pi;
+        let p = &self.axes[k];
+        rho.compose(&So3::exp(&(p * (h * self.c[k] * p.dot(&m)))))
+    }
+
+    /// The internal drift over `h`: exact for a symmetric operator, Yoshida-6
+    /// composition of the Strang splitting of the two axis rotations otherwise.
+    fn drift(&self, rho: &So3, pi: &Vector3<f64>, h: f64) -> So3 {
+        // Casimir part: ρ ← ρ exp(h σ M/I₁) (commutes with the rest).
+        let m = rho.matrix().transpose() * pi;
+        let mut r = rho.compose(&So3::exp(&(m * (h * self.casimir))));
+        if self.symmetric {
+            return self.axis_rotation(&r, pi, 1, h);
+        }
+        for &gam in YOSHIDA6.iter() {
+            let hh = gam * h;
+            r = self.axis_rotation(&r, pi, 0, 0.5 * hh);
+            r = self.axis_rotation(&r, pi, 1, hh);
+            r = self.axis_rotation(&r, pi, 0, 0.5 * hh);
+        }
+        r.renormalize()
+    }
+}
+
+/// The kick and the free flow of the n = 3 gyroscope (exact for a symmetric
+/// inertia operator, to order 6 otherwise; see [`split`](super::split)); on
+/// S³.
+impl<B, P> Splittable for Gyroscope3Model<B, P>
+where
+    B: FrameBundle<3, 4>,
+    P: Potential<3, 4>,
+{
+    /// `u ← u + hF̂/m`, `π ← π + hτ`.
+    #[inline(always)]
+    fn kick(&self, y: &Self::State, h: f64) -> Self::State {
+        let (f, torque) = self.potential_forces(y);
+        let w = y.1 .0;
+        let a = f * (h * self.inv_mass());
+        let t = torque * h;
+        Product(y.0, Rn(Vector6::new(w[0] + a[0], w[1] + a[1], w[2] + a[2], w[3] + t[0], w[4] + t[1], w[5] + t[2])))
+    }
+
+    /// `g ← g₀ exp(h(ξ(u₀) + R)) exp(−hR)`, `R = vertical(hat(Kπ/m))`;
+    /// `u ← exp(h hat(Kπ/m)) u₀`; `ρ` by the internal drift; `π` unchanged.
+    fn drift(&self, y: &Self::State, h: f64) -> Self::State {
+        let (g, rho) = (&y.0 .0, &y.0 .1);
+        let w = y.1 .0;
+        let u = Vector3::new(w[0], w[1], w[2]);
+        let pi = Vector3::new(w[3], w[4], w[5]);
+        let omega = pi * (self.bundle().curvature_at(g) * self.inv_mass());
+        let g1 = free_translation(self.bundle(), g, &u, &So3::hat(&omega), h);
+        let u1 = So3::exp(&(omega * h)).matrix() * u;
+        let sigma = signature_sign(self.signature());
+        let split = internal_split(self.inertia_operator(), sigma);
+        let rho1 = split.drift(rho, &pi, h);
+        Product(Product(g1, rho1), Rn(Vector6::new(u1[0], u1[1], u1[2], w[3], w[4], w[5])))
+    }
+
+    fn has_free_flow(&self) -> bool {
+        self.bundle().exact_free_flow()
+    }
+
+    fn drift_exact(&self) -> bool {
+        let sigma = signature_sign(self.signature());
+        internal_split(self.inertia_operator(), sigma).symmetric
+    }
+
+    fn drift_exps(&self) -> u32 {
+        if self.drift_exact() {
+            5
+        } else {
+            4 + 3 * YOSHIDA6.len() as u32
+        }
+    }
+}
+
+impl<B, P> SplitDispatch for Gyroscope3Model<B, P>
+where
+    B: FrameBundle<3, 4>,
+    P: Potential<3, 4>,
+{
+    type Split = Self;
+    #[inline(always)]
+    fn as_splittable(&self) -> Option<&Self> {
+        self.has_free_flow().then_some(self)
+    }
 }

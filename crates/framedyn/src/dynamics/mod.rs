@@ -101,7 +101,9 @@ pub mod gyroscope;
 pub mod gyroscope2;
 pub mod gyroscope3;
 pub mod point;
+pub mod split;
 
 pub use gyroscope2::{Gyroscope2Model, Gyroscope2State};
 pub use gyroscope3::{Gyroscope3Model, Gyroscope3State, PaperMomenta};
 pub use point::{PointModel, PointState};
+pub use split::{NoSplit, SplitDispatch, Splittable};

@@ -8,6 +8,7 @@ use nalgebra::{SMatrix, SVector};
 
 use crate::body::Point;
 use crate::bundle::FrameBundle;
+use crate::dynamics::split::{SplitDispatch, Splittable};
 use crate::dynamics::{position_force, System};
 use crate::error::finite;
 use crate::lie::{LieGroup, Product, ProductAlgebra, Rn};
@@ -406,5 +407,47 @@ pub(crate) fn rename_field(err: Error, from: &'static str, to: &'static str) -> 
             Error::InvalidParameter { field: swap(field), value, allowed }
         }
         other => other,
+    }
+}
+
+// -- splitting ---------------------------------------------------------------
+
+/// The kick and the geodesic flow of the point; exact on S², H², S³.
+impl<B, P, const N: usize, const E: usize> Splittable for PointModel<B, P, N, E>
+where
+    B: FrameBundle<N, E>,
+    P: Potential<N, E>,
+{
+    /// `u ← u + hF̂/m`.
+    #[inline(always)]
+    fn kick(&self, y: &Self::State, h: f64) -> Self::State {
+        Product(y.0, Rn(y.1 .0 + self.force(y) * (h * self.inv_mass())))
+    }
+
+    /// The geodesic flow `g ← g₀ exp(h ξ(u₀))`, `u` unchanged.
+    #[inline(always)]
+    fn drift(&self, y: &Self::State, h: f64) -> Self::State {
+        let xi = self.bundle().horizontal_lift(&y.0, &y.1 .0);
+        Product(y.0.compose(&B::Group::exp(&(xi * h))), y.1)
+    }
+
+    fn has_free_flow(&self) -> bool {
+        self.bundle().exact_free_flow()
+    }
+
+    fn drift_exps(&self) -> u32 {
+        1
+    }
+}
+
+impl<B, P, const N: usize, const E: usize> SplitDispatch for PointModel<B, P, N, E>
+where
+    B: FrameBundle<N, E>,
+    P: Potential<N, E>,
+{
+    type Split = Self;
+    #[inline(always)]
+    fn as_splittable(&self) -> Option<&Self> {
+        self.has_free_flow().then_some(self)
     }
 }

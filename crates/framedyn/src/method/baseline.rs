@@ -31,7 +31,7 @@ use nalgebra::SVector;
 use super::tableau::{self, Tableau, DENSE_DEGREE};
 use super::{Alg, DensePoly, Method, MethodInfo, NonFiniteSource, StepCost, StepFault, StepOutput, StepRequest};
 use crate::coords::{self, Lagrangian};
-use crate::dynamics::System;
+use crate::dynamics::{NoSplit, SplitDispatch, System};
 use crate::lie::{AlgebraVector, LieGroup, Product, ProductAlgebra, Rn};
 use crate::Error;
 
@@ -100,6 +100,17 @@ where
     }
 }
 
+/// The chart equations have no exact free flows.
+impl<L, const Q: usize> SplitDispatch for ChartSystem<L, Q>
+where
+    L: Lagrangian<Q> + Send + Sync,
+{
+    type Split = NoSplit<ChartState<Q>>;
+    fn as_splittable(&self) -> Option<&Self::Split> {
+        None
+    }
+}
+
 /// A classical explicit Runge–Kutta method on a [`ChartSystem`], failing
 /// with a typed [`StepFault::OutsideChart`] where the chart is singular.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -111,7 +122,7 @@ pub struct CoordinateRk<const S: usize> {
 impl CoordinateRk<4> {
     /// The classical RK4 in coordinates (order 4, 4 evaluations).
     pub const fn rk4() -> Self {
-        CoordinateRk { name: "coordinate RK4", tableau: &tableau::RK4 }
+        CoordinateRk { name: super::registry::COORDINATE_RK4.display, tableau: &tableau::RK4 }
     }
 }
 
@@ -119,7 +130,14 @@ impl CoordinateRk<7> {
     /// Dormand–Prince 5(4) in coordinates: order 5, embedded order 4, FSAL,
     /// dense output of order 4.
     pub const fn dopri5() -> Self {
-        CoordinateRk { name: "coordinate DOPRI5", tableau: &tableau::DOPRI5 }
+        CoordinateRk { name: super::registry::COORDINATE_DOPRI5.display, tableau: &tableau::DOPRI5 }
+    }
+}
+
+impl<const S: usize> CoordinateRk<S> {
+    /// The display name ([`MethodInfo::name`]).
+    pub const fn name(&self) -> &'static str {
+        self.name
     }
 }
 

@@ -39,7 +39,7 @@ use super::group::GroupNumerics;
 use super::{Alg, DensePoly, Method, MethodInfo, NonFiniteSource, StepCost, StepFault, StepOutput, StepRequest};
 use crate::dynamics::System;
 use crate::lie::{dexp_inv_series, AlgebraVector, LieGroup};
-use crate::solve::SolveError;
+use super::MethodError;
 
 use super::tableau::DENSE_DEGREE;
 
@@ -71,13 +71,13 @@ impl ImplicitMidpoint {
     }
 
     /// The same method with Newton tolerance `tol` (finite, in
-    /// `[1e-16, 1e-2]`) and at most `max_iter ≥ 1` iterations.
-    pub fn with_newton(mut self, tol: f64, max_iter: u32) -> Result<Self, SolveError> {
+    /// `[1e-16, 1e-2]`) and at most `max_iter` iterations (`1 ..= 1000`).
+    pub fn with_newton(mut self, tol: f64, max_iter: u32) -> Result<Self, MethodError> {
         if !(tol.is_finite() && (1e-16..=1e-2).contains(&tol)) {
-            return Err(SolveError::InvalidParameter { field: "newton_tol", value: tol, allowed: "in [1e-16, 1e-2]" });
+            return Err(MethodError::InvalidParameter { field: "newton_tol", value: tol, allowed: "in [1e-16, 1e-2]" });
         }
-        if max_iter == 0 {
-            return Err(SolveError::InvalidParameter { field: "max_iter", value: 0.0, allowed: "≥ 1" });
+        if !(1..=1000).contains(&max_iter) {
+            return Err(MethodError::InvalidParameter { field: "newton_max_iter", value: f64::from(max_iter), allowed: "in 1 ..= 1000" });
         }
         self.tol = tol;
         self.max_iter = max_iter;
@@ -223,7 +223,7 @@ where
 {
     fn info(&self) -> MethodInfo {
         MethodInfo {
-            name: "implicit Lie midpoint",
+            name: super::registry::IMPLICIT_MIDPOINT.display,
             order: 2,
             embedded_order: None,
             dense_order: 2,

@@ -21,7 +21,10 @@
 //!   systems that are [`Splittable`] (gyroscopes and points on S², H², S³);
 //! - [`ImplicitMidpoint`]: the symmetric implicit Lie midpoint rule for any
 //!   system (Newton with a faer LU);
-//! - [`baseline`]: classical RK4 / DOPRI5 on the paper's chart equations.
+//! - [`baseline`]: classical RK4 / DOPRI5 on the paper's chart equations;
+//! - [`registry`]: every method by name — display name, family, order,
+//!   stepping, what it needs and its constructor — the one list that scenes,
+//!   the command line, the Python module and the docs read.
 //!
 //! # Which method
 //!
@@ -57,17 +60,21 @@
 //! (brackets vanish, `exp` is the identity).
 
 pub mod baseline;
+mod error;
 pub mod group;
 pub mod implicit;
+pub mod registry;
 pub mod rkmk;
 pub mod splitting;
 pub mod tableau;
 pub mod trees;
 
+pub use error::MethodError;
 pub use group::GroupNumerics;
 pub use implicit::ImplicitMidpoint;
+pub use registry::{AnyMethod, Family, MethodEntry, MethodParams, Needs, METHODS};
 pub use rkmk::{DexpInv, Rkmk};
-pub use splitting::{ConstantCurvature, PlanarFrameRotation, Splittable, Splitting};
+pub use splitting::Splitting;
 pub use tableau::Tableau;
 
 use std::fmt::Debug;
@@ -260,6 +267,14 @@ pub enum StepFault {
         /// The time of the failing evaluation.
         t_eval: f64,
     },
+    /// The method cannot integrate this system ([`Method::check`] refuses
+    /// it; a driver checks before the first step).
+    Unsupported {
+        /// The method's display name.
+        method: &'static str,
+        /// What is missing, in words.
+        reason: &'static str,
+    },
 }
 
 /// A one-step method for the systems `S`.
@@ -270,6 +285,15 @@ pub enum StepFault {
 pub trait Method<S: System>: Clone + Debug {
     /// Static properties.
     fn info(&self) -> MethodInfo;
+
+    /// Whether the method can integrate `system` (default: yes). A method
+    /// that needs a structure of the system — exact free flows for the
+    /// splittings — refuses the others here; the driver asks before the
+    /// first step.
+    fn check(&self, system: &S) -> Result<(), MethodError> {
+        let _ = system;
+        Ok(())
+    }
 
     /// Advances `y₀` at `t` by `h` (which may be negative).
     fn step(

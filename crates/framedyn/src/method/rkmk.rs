@@ -37,7 +37,7 @@ use super::tableau::{self, BracketForm, DenseStages, Tableau, DENSE_DEGREE, EXTE
 use super::{Alg, DensePoly, Method, MethodInfo, NonFiniteSource, StepCost, StepFault, StepOutput, StepRequest};
 use crate::dynamics::System;
 use crate::lie::{dexp_inv_series, AlgebraVector, LieGroup};
-use crate::solve::SolveError;
+use super::{registry, MethodError};
 
 /// How the stages apply `dexp⁻¹`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -78,6 +78,7 @@ pub const DEFAULT_RADIUS_LIMIT: f64 = std::f64::consts::PI;
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Rkmk<const S: usize> {
+    name: &'static str,
     tableau: &'static Tableau<S>,
     dexp_inv: DexpInv,
     radius_limit: f64,
@@ -96,7 +97,7 @@ enum Kernel {
 impl Rkmk<1> {
     /// Lie–Euler, order 1 ([`tableau::LIE_EULER`]).
     pub const fn lie_euler() -> Self {
-        Self::new(&tableau::LIE_EULER)
+        Self::new(&tableau::LIE_EULER).named(registry::LIE_EULER.display)
     }
 }
 
@@ -104,7 +105,7 @@ impl Rkmk<2> {
     /// RKMK2 on Heun's method, order 2 ([`tableau::HEUN`]; no `dexp⁻¹`
     /// correction is needed at order 2).
     pub const fn heun() -> Self {
-        Self::new(&tableau::HEUN)
+        Self::new(&tableau::HEUN).named(registry::HEUN.display)
     }
 }
 
@@ -112,7 +113,7 @@ impl Rkmk<3> {
     /// RKMK3 on Kutta's third-order method ([`tableau::KUTTA3`]), one
     /// commutator per stage (`dexp⁻¹ ≈ I + ½ad_θ`).
     pub const fn kutta3() -> Self {
-        Self::new(&tableau::KUTTA3)
+        Self::new(&tableau::KUTTA3).named(registry::KUTTA3.display)
     }
 }
 
@@ -126,7 +127,7 @@ impl Rkmk<4> {
     /// engine); dense-output steps and other `dexp⁻¹` treatments use the
     /// general engine.
     pub const fn rk4() -> Self {
-        let mut m = Self::new(&tableau::RK4);
+        let mut m = Self::new(&tableau::RK4).named(registry::RK4.display);
         m.kernel = Kernel::Rk4;
         m
     }
@@ -136,13 +137,13 @@ impl Rkmk<7> {
     /// RKMK5 on Dormand–Prince 5(4) ([`tableau::DOPRI5`]): order 5, embedded
     /// order 4 for adaptive stepping, dense output of order 4, FSAL.
     pub const fn dopri5() -> Self {
-        Self::new(&tableau::DOPRI5)
+        Self::new(&tableau::DOPRI5).named(registry::DOPRI5.display)
     }
 
     /// RKMK6 on Butcher's seven-stage sixth-order method
     /// ([`tableau::BUTCHER6`]), `dexp⁻¹` to `ad⁴`.
     pub const fn butcher6() -> Self {
-        Self::new(&tableau::BUTCHER6)
+        Self::new(&tableau::BUTCHER6).named(registry::BUTCHER6.display)
     }
 }
 
@@ -152,15 +153,15 @@ impl Rkmk<12> {
     /// adaptive stepping, and its continuous extension of order 7 (3 extra
     /// evaluations of `f` per step, only when dense output is requested).
     pub const fn dop853() -> Self {
-        Self::new(&tableau::DOP853)
+        Self::new(&tableau::DOP853).named(registry::DOP853.display)
     }
 }
 
 impl<const S: usize> Rkmk<S> {
-    /// The RKMK method of `tableau`, with [`DexpInv::Auto`] and the radius
-    /// guard [`DEFAULT_RADIUS_LIMIT`].
+    /// The RKMK method of `tableau` (named after it), with [`DexpInv::Auto`]
+    /// and the radius guard [`DEFAULT_RADIUS_LIMIT`].
     pub const fn new(tableau: &'static Tableau<S>) -> Self {
-        Rkmk { tableau, dexp_inv: DexpInv::Auto, radius_limit: DEFAULT_RADIUS_LIMIT, kernel: Kernel::General }
+        Rkmk { name: tableau.name, tableau, dexp_inv: DexpInv::Auto, radius_limit: DEFAULT_RADIUS_LIMIT, kernel: Kernel::General }
     }
 
     /// The same method with another `dexp⁻¹` treatment.
@@ -176,9 +177,9 @@ impl<const S: usize> Rkmk<S> {
     /// The same method with another radius guard `limit` (finite, `0 < limit < 2π`):
     /// a step fails with [`StepFault::DexpRadius`] if some algebra argument
     /// `θ` has `ρ(ad_θ) > limit`.
-    pub fn with_radius_limit(mut self, limit: f64) -> Result<Self, SolveError> {
+    pub fn with_radius_limit(mut self, limit: f64) -> Result<Self, MethodError> {
         if !(limit > 0.0 && limit < std::f64::consts::TAU) {
-            return Err(SolveError::InvalidParameter {
+            return Err(MethodError::InvalidParameter {
                 field: "radius_limit",
                 value: limit,
                 allowed: "in (0, 2π)",
@@ -186,6 +187,18 @@ impl<const S: usize> Rkmk<S> {
         }
         self.radius_limit = limit;
         Ok(self)
+    }
+
+    /// The same method under another display name ([`MethodInfo::name`]).
+    pub const fn named(mut self, name: &'static str) -> Self {
+        self.name = name;
+        self
+    }
+
+    /// The display name ([`MethodInfo::name`]): the registry's for the
+    /// named constructors, the tableau's for [`Rkmk::new`].
+    pub const fn name(&self) -> &'static str {
+        self.name
     }
 
     /// The tableau.
@@ -465,7 +478,7 @@ where
 {
     fn info(&self) -> MethodInfo {
         MethodInfo {
-            name: self.tableau.name,
+            name: self.name,
             order: self.tableau.order,
             embedded_order: self.tableau.embedded.map(|e| e.estimate_order()),
             dense_order: self.dense_order(),

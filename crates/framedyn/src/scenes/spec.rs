@@ -4,6 +4,7 @@
 
 use serde::de::{self, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::collections::BTreeMap;
 use std::fmt;
 
 use super::potential::Series;
@@ -51,35 +52,7 @@ impl<'de> Deserialize<'de> for Numbers {
     }
 }
 
-/// The manifold.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum ManifoldKind {
-    /// The sphere S²(R) ⊂ ℝ³.
-    S2,
-    /// The hyperbolic plane H²(R) ⊂ ℝ^{2,1} (upper sheet).
-    H2,
-    /// The torus T²(L, R) ⊂ ℝ³.
-    T2,
-    /// The three-sphere S³(R) ⊂ ℝ⁴.
-    S3,
-}
-
-/// `[manifold]`: `kind` and its radii.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ManifoldSpec {
-    /// `"S2"`, `"H2"`, `"T2"` or `"S3"`.
-    pub kind: ManifoldKind,
-    /// `R` of S², H², S³ (default 1).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub radius: Option<f64>,
-    /// `L`, the major radius of T².
-    #[serde(default, alias = "L", skip_serializing_if = "Option::is_none")]
-    pub major: Option<f64>,
-    /// `R`, the minor radius of T².
-    #[serde(default, alias = "R", skip_serializing_if = "Option::is_none")]
-    pub minor: Option<f64>,
-}
+pub use super::manifolds::{ManifoldKind, ManifoldSpec};
 
 /// The body.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -219,80 +192,126 @@ pub struct PotentialSpec {
     pub terms: Option<Vec<PotentialSpec>>,
 }
 
-/// `[initial]`: either the paper's coordinates (`r, phi` on S²/H²,
-/// `theta, phi` on T², `r1, r2, r3` on S³, with `*_dot` velocities) or the
-/// embedding (`position`, `velocity`, optionally `frame`); plus the internal
-/// state of the body.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// `[initial]`: either the chart coordinates of the manifold, named as the
+/// manifold names them ([`Manifold::coordinate_names`](crate::manifold::Manifold::coordinate_names):
+/// `r, phi` on S² and H², `theta, phi` on T², `r1, r2, r3` on S³, `lat, lon`
+/// on the spheroid), with their rates `*_dot`; or the embedding
+/// (`position`, `velocity`, optionally `frame`); plus the internal state of
+/// the body. Every key that is not one of the fixed fields below is read as
+/// a chart coordinate (a number) and checked against the manifold when the
+/// scene is built.
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct InitialSpec {
-    /// Paper coordinate `r` (S², H²: geodesic distance from the chart pole).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub r: Option<f64>,
-    /// Paper coordinate `φ` (S², H², T²), radians.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub phi: Option<f64>,
-    /// Paper coordinate `θ` (T²), radians.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub theta: Option<f64>,
-    /// Paper coordinate `r̄₁` (S³ rotation-vector chart).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub r1: Option<f64>,
-    /// Paper coordinate `r̄₂`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub r2: Option<f64>,
-    /// Paper coordinate `r̄₃`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub r3: Option<f64>,
-    /// `ṙ`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub r_dot: Option<f64>,
-    /// `φ̇`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub phi_dot: Option<f64>,
-    /// `θ̇`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub theta_dot: Option<f64>,
-    /// `ṙ̄₁`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub r1_dot: Option<f64>,
-    /// `ṙ̄₂`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub r2_dot: Option<f64>,
-    /// `ṙ̄₃`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub r3_dot: Option<f64>,
+    /// Chart coordinates and rates by name (`r`, `phi_dot`, …).
+    pub coordinates: BTreeMap<String, f64>,
     /// Embedding position (3 or 4 numbers).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub position: Option<Vec<f64>>,
     /// Embedding velocity (tangent at `position`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub velocity: Option<Vec<f64>>,
     /// Gyroscope body frame as a list of its vectors `e_A` (embedding
     /// components; orthonormal, tangent, positively oriented).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub frame: Option<Vec<Vec<f64>>>,
     /// 2-D gyroscope: angle `α` of the body frame from the reference frame
-    /// (the paper's `E(x)`, or a Gram–Schmidt frame at a chart pole).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// (the manifold's frame field `E(x)`, or a Gram–Schmidt frame at a chart
+    /// pole).
     pub alpha: Option<f64>,
     /// S³ gyroscope: rotation vector of the body frame from the reference frame.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub orientation: Option<Vec<f64>>,
     /// Gyroscope spin (2-D: a number; S³: three body components).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spin: Option<Numbers>,
     /// Gyroscope angular velocity instead of `spin` (2-D: `α̇` relative to
     /// the parallel frame; S³: body components).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub omega: Option<Numbers>,
     /// Affine bodies: internal configuration `ρ` (n×n rows), `e = q·ρ` with
     /// `q` the reference frame (default identity).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rho: Option<Vec<Vec<f64>>>,
     /// Affine bodies: internal velocity `ρ̇` (n×n rows, default 0).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rho_dot: Option<Vec<Vec<f64>>>,
+}
+
+impl InitialSpec {
+    /// The fixed (non-coordinate) fields of `[initial]`.
+    pub const FIELDS: [&'static str; 9] = ["position", "velocity", "frame", "alpha", "orientation", "spin", "omega", "rho", "rho_dot"];
+
+    /// The chart coordinate or rate `name`, if given.
+    pub fn coordinate(&self, name: &str) -> Option<f64> {
+        self.coordinates.get(name).copied()
+    }
+
+    /// Sets the chart coordinate or rate `name`.
+    pub fn with_coordinate(mut self, name: &str, value: f64) -> Self {
+        self.coordinates.insert(name.to_string(), value);
+        self
+    }
+}
+
+impl Serialize for InitialSpec {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(None)?;
+        for (k, v) in &self.coordinates {
+            m.serialize_entry(k, v)?;
+        }
+        macro_rules! opt {
+            ($($f:ident),*) => {$(
+                if let Some(v) = &self.$f {
+                    m.serialize_entry(stringify!($f), v)?;
+                }
+            )*};
+        }
+        opt!(position, velocity, frame, alpha, orientation, spin, omega, rho, rho_dot);
+        m.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for InitialSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = InitialSpec;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a table of chart coordinates (numbers) and the fields position, velocity, frame, alpha, orientation, spin, omega, rho, rho_dot")
+            }
+            fn visit_map<A: de::MapAccess<'de>>(self, mut map: A) -> Result<InitialSpec, A::Error> {
+                let mut out = InitialSpec::default();
+                while let Some(key) = map.next_key::<String>()? {
+                    macro_rules! field {
+                        ($f:ident) => {{
+                            if out.$f.is_some() {
+                                return Err(de::Error::duplicate_field(stringify!($f)));
+                            }
+                            out.$f = map.next_value()?;
+                        }};
+                    }
+                    match key.as_str() {
+                        "position" => field!(position),
+                        "velocity" => field!(velocity),
+                        "frame" => field!(frame),
+                        "alpha" => field!(alpha),
+                        "orientation" => field!(orientation),
+                        "spin" => field!(spin),
+                        "omega" => field!(omega),
+                        "rho" => field!(rho),
+                        "rho_dot" => field!(rho_dot),
+                        _ => {
+                            if out.coordinates.contains_key(&key) {
+                                return Err(de::Error::custom(format_args!("duplicate coordinate `{key}`")));
+                            }
+                            let v: f64 = map.next_value().map_err(|e: A::Error| {
+                                de::Error::custom(format_args!(
+                                    "`{key}` is read as a chart coordinate and must be a number ({e}); the other fields of [initial] are {}",
+                                    InitialSpec::FIELDS.join(", ")
+                                ))
+                            })?;
+                            out.coordinates.insert(key, v);
+                        }
+                    }
+                }
+                Ok(out)
+            }
+        }
+        d.deserialize_map(V)
+    }
 }
 
 /// `[method]`.
@@ -368,6 +387,20 @@ pub enum Quantity {
 }
 
 impl Quantity {
+    /// The name in scene files and listings (`"position"`, `"momentum_map"`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            Quantity::Position => "position",
+            Quantity::Velocity => "velocity",
+            Quantity::Frame => "frame",
+            Quantity::Coordinates => "coordinates",
+            Quantity::Momenta => "momenta",
+            Quantity::Energy => "energy",
+            Quantity::MomentumMap => "momentum_map",
+            Quantity::Defect => "defect",
+        }
+    }
+
     /// All quantities, in column order.
     pub const ALL: [Quantity; 8] = [
         Quantity::Position,
@@ -433,18 +466,10 @@ pub enum EventKind {
     Column,
 }
 
-/// Which sign changes of `g` an event reports.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum EventDirection {
-    /// `g` from negative to non-negative.
-    Rising,
-    /// `g` from positive to non-positive.
-    Falling,
-    /// Both (default).
-    #[default]
-    Either,
-}
+/// Which sign changes of `g` an event reports: `"rising"` (from negative to
+/// non-negative), `"falling"` (from positive to non-positive) or `"either"`
+/// (default) — the driver's [`Direction`](crate::solve::Direction).
+pub use crate::solve::Direction as EventDirection;
 
 /// One `[[events]]` entry: a built-in event function, the direction of the
 /// crossings reported and whether the first one stops the run.

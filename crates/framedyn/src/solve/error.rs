@@ -110,6 +110,17 @@ pub enum SolveError {
     },
 }
 
+impl From<crate::method::MethodError> for SolveError {
+    /// A method that cannot be built or cannot integrate the system: an
+    /// invalid parameter keeps its field; the rest are invalid options.
+    fn from(e: crate::method::MethodError) -> Self {
+        match e {
+            crate::method::MethodError::InvalidParameter { field, value, allowed } => SolveError::InvalidParameter { field, value, allowed },
+            other => SolveError::InvalidOptions { reason: other.to_string() },
+        }
+    }
+}
+
 /// A failed solve: the error and the solution up to the last good state.
 #[derive(Debug, Error)]
 #[error("{error}")]

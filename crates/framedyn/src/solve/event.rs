@@ -1,23 +1,27 @@
-//! Events: zeros of a scalar function `g(t, y)` located on the dense output.
+//! Events: zeros of a scalar function `g(t, y)` along a trajectory.
 //!
 //! After every accepted step the driver evaluates `g` at the new state and
 //! compares its sign with the last non-zero sign seen. A change (or an exact
-//! zero at the step's end) is a crossing; it is located on the step's dense
-//! output `y(t) = y₀·exp(θ(σ))` by Brent's method \[Bre73\] to the time
-//! tolerance of the options, so the located time is as accurate as the dense
-//! output. Two sign changes within one step cancel and are not seen (limit
-//! the step size to resolve closely spaced zeros). A zero at `t₀` is not
-//! reported.
+//! zero at the step's end) is a crossing; it is located on the method's
+//! continuous extension over the step (its dense output, or a sub-step: see
+//! [`driver`](super::driver)) by Brent's method \[Bre73\] to the time
+//! tolerance of the options, so the located time is as accurate as the
+//! trajectory. Two sign changes within one step cancel and are not seen
+//! (limit the step size to resolve closely spaced zeros). A zero at `t₀` is
+//! not reported.
 //!
 //! \[Bre73\] R. P. Brent, *Algorithms for Minimization without Derivatives*,
 //! Prentice-Hall 1973, ch. 4 (the algorithm `zeroin`).
 
 use std::fmt;
+use std::sync::Arc;
 
 use crate::lie::LieGroup;
 
-/// Which crossings an event reports.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// Which crossings an event reports (scene files: `direction = "rising"`,
+/// `"falling"` or `"either"`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Direction {
     /// `g` goes from negative to non-negative.
     Rising,
@@ -28,18 +32,31 @@ pub enum Direction {
     Either,
 }
 
-/// The event function's type.
+/// The event function's type: `g(t, x)` of the time and the state `x` (a
+/// group element for [`solve`](super::solve), the record — one value per
+/// column — for the scene engine).
 pub type EventFn<G> = dyn Fn(f64, &G) -> f64 + Send + Sync;
 
-/// An event `g(t, y) = 0`.
-pub struct Event<G: LieGroup> {
+/// An event `g(t, x) = 0`: its name, function, the [`Direction`] of the
+/// crossings it reports and whether the first one stops the run. The one
+/// event type of the crate: `Event<G>` on the states of a typed problem,
+/// `Event<[f64]>` on the records of a scene (the scene file's `[[events]]`,
+/// the Python module's `framedyn.Event`); both are located by the same
+/// routine ([`driver`](super::driver)).
+pub struct Event<G: ?Sized> {
     pub(crate) name: String,
-    pub(crate) g: Box<EventFn<G>>,
+    pub(crate) g: Arc<EventFn<G>>,
     pub(crate) direction: Direction,
     pub(crate) terminal: bool,
 }
 
-impl<G: LieGroup> fmt::Debug for Event<G> {
+impl<G: ?Sized> Clone for Event<G> {
+    fn clone(&self) -> Self {
+        Event { name: self.name.clone(), g: self.g.clone(), direction: self.direction, terminal: self.terminal }
+    }
+}
+
+impl<G: ?Sized> fmt::Debug for Event<G> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("Event")
             .field("name", &self.name)
@@ -49,11 +66,16 @@ impl<G: LieGroup> fmt::Debug for Event<G> {
     }
 }
 
-impl<G: LieGroup> Event<G> {
+impl<G: ?Sized> Event<G> {
     /// The event `g(t, y) = 0`, reporting crossings in both directions,
     /// non-terminal.
     pub fn new(name: impl Into<String>, g: impl Fn(f64, &G) -> f64 + Send + Sync + 'static) -> Self {
-        Event { name: name.into(), g: Box::new(g), direction: Direction::Either, terminal: false }
+        Event { name: name.into(), g: Arc::new(g), direction: Direction::Either, terminal: false }
+    }
+
+    /// The event with the function `g` shared with other events.
+    pub fn from_arc(name: impl Into<String>, g: Arc<EventFn<G>>) -> Self {
+        Event { name: name.into(), g, direction: Direction::Either, terminal: false }
     }
 
     /// Reports only crossings in `direction`.
@@ -71,6 +93,16 @@ impl<G: LieGroup> Event<G> {
     /// The name.
     pub fn name(&self) -> &str {
         &self.name
+    }
+
+    /// Which crossings are reported.
+    pub fn direction_of(&self) -> Direction {
+        self.direction
+    }
+
+    /// Whether the first reported crossing stops the run.
+    pub fn is_terminal(&self) -> bool {
+        self.terminal
     }
 
     /// `g(t, y)`.

@@ -3,15 +3,17 @@
 
 use std::fmt;
 
+use super::driver::Settings;
 use super::event::Event;
 use crate::lie::LieGroup;
 
 /// How steps are chosen.
 #[derive(Debug, Clone, PartialEq)]
 pub enum StepSize {
-    /// `n = ⌈|t_end − t₀|/h⌉` equal steps (so `h` is an upper bound; the
-    /// interval is split exactly, the last step lands on `t_end`). Step times
-    /// are computed as `t₀ + (t_end − t₀)·i/n`, without accumulation.
+    /// `n` equal steps of size at most `h` ([`fixed_step_count`](super::fixed_step_count):
+    /// `|t_end − t₀|/h` when that is an integer to 1e-9, else its ceiling;
+    /// the interval is split exactly, the last step lands on `t_end`). Step
+    /// times are computed as `t₀ + (t_end − t₀)·i/n`, without accumulation.
     Fixed(f64),
     /// Error-controlled steps with an embedded pair.
     Adaptive(Adaptive),
@@ -165,14 +167,18 @@ impl Adaptive {
     }
 }
 
-/// Which states the solution keeps.
+/// Which states a run saves (besides the state it stops at: see
+/// [`driver`](super::driver)).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Save {
     /// `t₀` and the end of every accepted step.
     Steps,
+    /// `t₀`, the end of every `k`-th accepted step (`k ≥ 1`) and the final
+    /// state.
+    Every(u64),
     /// Exactly the given times (sorted into the direction of integration;
-    /// each within the span), from the dense output — independent of the
-    /// steps taken.
+    /// each within the span), from the method's continuous extension over
+    /// the step that contains them — independent of the steps taken.
     At(Vec<f64>),
     /// `t₀` and the final time only.
     Ends,
@@ -184,29 +190,21 @@ pub type ObserverFn<G> = dyn Fn(f64, &G) -> f64 + Send + Sync;
 /// Options of [`solve`](super::solve). Built from [`Options::fixed`] or
 /// [`Options::adaptive`] and the builder methods.
 pub struct Options<G: LieGroup> {
-    pub(crate) step: StepSize,
-    pub(crate) save: Save,
-    pub(crate) dense: bool,
-    pub(crate) max_steps: usize,
+    pub(crate) settings: Settings,
     pub(crate) energy: bool,
     pub(crate) defect: bool,
     pub(crate) observers: Vec<(String, Box<ObserverFn<G>>)>,
     pub(crate) events: Vec<Event<G>>,
-    pub(crate) event_xtol: f64,
 }
 
 impl<G: LieGroup> fmt::Debug for Options<G> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("Options")
-            .field("step", &self.step)
-            .field("save", &self.save)
-            .field("dense", &self.dense)
-            .field("max_steps", &self.max_steps)
+            .field("settings", &self.settings)
             .field("energy", &self.energy)
             .field("defect", &self.defect)
             .field("observers", &self.observers.iter().map(|o| &o.0).collect::<Vec<_>>())
             .field("events", &self.events)
-            .field("event_xtol", &self.event_xtol)
             .finish()
     }
 }
@@ -217,15 +215,11 @@ pub const DEFAULT_MAX_STEPS: usize = 1_000_000;
 impl<G: LieGroup> Options<G> {
     fn with_step(step: StepSize) -> Self {
         Options {
-            step,
-            save: Save::Steps,
-            dense: false,
-            max_steps: DEFAULT_MAX_STEPS,
+            settings: Settings { step, save: Save::Steps, dense: false, max_steps: DEFAULT_MAX_STEPS, event_xtol: 0.0 },
             energy: false,
             defect: false,
             observers: Vec::new(),
             events: Vec::new(),
-            event_xtol: 0.0,
         }
     }
 
@@ -246,20 +240,20 @@ impl<G: LieGroup> Options<G> {
 
     /// Which states to keep (default [`Save::Steps`]).
     pub fn save(mut self, save: Save) -> Self {
-        self.save = save;
+        self.settings.save = save;
         self
     }
 
     /// Keep the dense output of every step (default: no).
     pub fn dense(mut self, dense: bool) -> Self {
-        self.dense = dense;
+        self.settings.dense = dense;
         self
     }
 
     /// Limit on the number of accepted steps (default [`DEFAULT_MAX_STEPS`]);
     /// reaching it before `t_end` is a [`MaxSteps`](super::SolveError::MaxSteps) error.
     pub fn max_steps(mut self, n: usize) -> Self {
-        self.max_steps = n;
+        self.settings.max_steps = n;
         self
     }
 
@@ -290,12 +284,17 @@ impl<G: LieGroup> Options<G> {
     /// Absolute time tolerance of event location (default 0: to round-off,
     /// `2ε|t|`).
     pub fn event_tolerance(mut self, xtol: f64) -> Self {
-        self.event_xtol = xtol;
+        self.settings.event_xtol = xtol;
         self
     }
 
     /// The step-size policy.
     pub fn step_size(&self) -> &StepSize {
-        &self.step
+        &self.settings.step
+    }
+
+    /// The step-size, sampling and event settings (what the driver reads).
+    pub fn settings(&self) -> &Settings {
+        &self.settings
     }
 }

@@ -18,6 +18,9 @@ pub enum StopReason {
     },
     /// The run failed (the error is also returned in a [`Failure`](super::Failure)).
     Failed(SolveError),
+    /// The cancel flag of the run's [`Control`](super::Control) was raised;
+    /// everything up to the state reached is kept.
+    Cancelled,
 }
 
 /// Work statistics of a run.

@@ -1,0 +1,484 @@
+//! [`Simulation`]: a built scene, run to a [`RecordSink`] or stepped. Its
+//! engine is one generic type over the models, instantiated once per
+//! manifold × body behind the object-safe [`DynEngine`]; every run goes
+//! through the crate's one driver ([`solve::drive`](crate::solve::drive))
+//! with a sink that turns states into records.
+
+use std::fmt;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+use super::chart::ChartTwin;
+use super::error::RunError;
+use super::observe::{Observe, Row, Sel};
+use super::plan::Plan;
+use super::sink::{Column, EventHit, RecordSink};
+use super::summary::{Progress, RunFailure, RunSummary, SceneStop};
+use crate::lie::LieGroup;
+use crate::method::registry::{Built, ChartMethod, Needs};
+use crate::method::{Method, StepRequest};
+use crate::solve::event::{Direction, Event, EventRecord};
+use crate::solve::{self, Control, DriveError, EventSet, Problem, Save, Settings, SolveError, Stats, StepSize, StopReason};
+
+/// The object-safe face of an engine.
+pub(crate) trait DynEngine: Send {
+    fn columns(&self, sel: Sel) -> Vec<Column>;
+    fn row(&self, sel: Sel, out: &mut Vec<f64>);
+    fn t(&self) -> f64;
+    fn energy(&self) -> f64;
+    fn defect(&self) -> f64;
+    /// Whether a method with these needs can integrate the model.
+    fn supports(&self, needs: Needs) -> bool;
+    /// One step of `method` of size `h` from the current state.
+    fn step(&mut self, method: &Built, h: f64) -> Result<(), SolveError>;
+    /// `n` steps of `method` of size `h` from the current state, through the
+    /// driver (cancellable).
+    fn advance(&mut self, method: &Built, h: f64, n: usize, cancel: &AtomicBool) -> Result<StopReason, SolveError>;
+    fn reset(&mut self);
+    /// Runs the plan from the initial state, records to `ctx`.
+    fn run(&mut self, plan: &Plan, ctx: &mut Ctx<'_>) -> Result<(), RunError>;
+}
+
+/// The bookkeeping of a run besides the driver: sink, cancel flag,
+/// progress, summary.
+pub(crate) struct Ctx<'a> {
+    pub sink: &'a mut dyn RecordSink,
+    pub cancel: &'a AtomicBool,
+    pub progress: &'a mut dyn FnMut(&Progress),
+    pub summary: RunSummary,
+    pub last_progress: Instant,
+    /// Columns of the momentum maps in a record.
+    pub mm_idx: Vec<usize>,
+}
+
+/// The engine of one model: the problem and the current state of the
+/// stepping API.
+pub(crate) struct Engine<S: Observe> {
+    problem: Problem<S>,
+    /// The model's chart equations, for the coordinate methods.
+    chart: Option<Box<dyn ChartTwin<S>>>,
+    t: f64,
+    y: S::State,
+}
+
+/// An engine for `system` from `y0` over `span`, with the model's chart
+/// equations if it has them.
+pub(crate) fn boxed<S: Observe>(system: S, y0: S::State, span: (f64, f64), chart: Option<Box<dyn ChartTwin<S>>>) -> Result<Box<dyn DynEngine>, SolveError> {
+    let problem = Problem::new(system, y0, span)?;
+    Ok(Box::new(Engine { t: span.0, y: *problem.y0(), problem, chart }))
+}
+
+/// The sink of a scene run: states become records (the selected columns)
+/// for the [`RecordSink`], and the summary notes energy, momentum maps and
+/// defect of every record.
+pub(crate) struct Records<'a, S: Observe> {
+    sys: &'a S,
+    sel: Sel,
+    sink: &'a mut dyn RecordSink,
+    summary: &'a mut RunSummary,
+    mm_idx: &'a [usize],
+    events: &'a [Event<[f64]>],
+    buf: Vec<f64>,
+    mm0: Vec<f64>,
+}
+
+impl<S: Observe> Records<'_, S> {
+    fn note(&mut self, energy: f64, defect: f64) {
+        let s = &mut *self.summary;
+        if s.records == 0 {
+            self.mm0 = self.mm_idx.iter().map(|&j| self.buf[j]).collect();
+            s.energy_initial = energy;
+        }
+        for (k, &j) in self.mm_idx.iter().enumerate() {
+            let d = (self.buf[j] - self.mm0[k]).abs();
+            let m = &mut s.momentum_map_drift;
+            *m = if d.is_nan() || m.is_nan() { f64::NAN } else { m.max(d) };
+        }
+        let d = (energy - s.energy_initial).abs();
+        s.energy_drift = if d.is_nan() || s.energy_drift.is_nan() { f64::NAN } else { s.energy_drift.max(d) };
+        s.max_defect = if defect.is_nan() || s.max_defect.is_nan() { f64::NAN } else { s.max_defect.max(defect) };
+        s.records += 1;
+    }
+}
+
+impl<S: Observe> solve::Sink<S::State> for Records<'_, S> {
+    type Error = RunError;
+
+    fn save(&mut self, t: f64, y: &S::State) -> Result<(), RunError> {
+        self.buf.clear();
+        self.sys.observe(self.sel, t, y, &mut Row::values(&mut self.buf));
+        self.sink.record(&self.buf)?;
+        let (energy, defect) = (self.sys.energy(y), self.sys.defect(y));
+        self.note(energy, defect);
+        Ok(())
+    }
+
+    fn event(&mut self, rec: &EventRecord<S::State>) -> Result<(), RunError> {
+        let mut row = Vec::new();
+        self.sys.observe(self.sel, rec.t, &rec.y, &mut Row::values(&mut row));
+        let name = self.events[rec.index].name().to_string();
+        self.sink.event(&EventHit { index: rec.index, name, t: rec.t, row, rising: rec.rising, terminal: rec.terminal })?;
+        self.summary.events += 1;
+        Ok(())
+    }
+}
+
+/// The scene's events (functions of the full record) as the driver's
+/// [`EventSet`] on the model's states: each evaluation observes every
+/// quantity into one reused buffer.
+pub(crate) struct RecordEvents<'a, S: Observe> {
+    sys: &'a S,
+    events: &'a [Event<[f64]>],
+    full: Vec<f64>,
+}
+
+impl<S: Observe> RecordEvents<'_, S> {
+    fn observe(&mut self, t: f64, y: &S::State) {
+        self.full.clear();
+        self.sys.observe(Sel::ALL, t, y, &mut Row::values(&mut self.full));
+    }
+}
+
+impl<S: Observe> EventSet<S::State> for RecordEvents<'_, S> {
+    fn count(&self) -> usize {
+        self.events.len()
+    }
+    fn direction(&self, k: usize) -> Direction {
+        self.events[k].direction_of()
+    }
+    fn terminal(&self, k: usize) -> bool {
+        self.events[k].is_terminal()
+    }
+    fn values(&mut self, t: f64, y: &S::State, out: &mut [f64]) {
+        self.observe(t, y);
+        for (o, e) in out.iter_mut().zip(self.events) {
+            *o = e.value(t, &self.full);
+        }
+    }
+    fn value(&mut self, k: usize, t: f64, y: &S::State) -> f64 {
+        self.observe(t, y);
+        self.events[k].value(t, &self.full)
+    }
+}
+
+/// A sink that keeps nothing (the stepping API's `advance`).
+struct Discard;
+
+impl<G: LieGroup> solve::Sink<G> for Discard {
+    type Error = std::convert::Infallible;
+    fn save(&mut self, _: f64, _: &G) -> Result<(), Self::Error> {
+        Ok(())
+    }
+}
+
+impl<S: Observe> Engine<S> {
+    /// The chart equations, or the error of a coordinate method on a model
+    /// without them.
+    fn chart(&self, m: &ChartMethod) -> Result<&dyn ChartTwin<S>, SolveError> {
+        self.chart.as_deref().ok_or_else(|| SolveError::InvalidOptions {
+            reason: format!("{} integrates the paper's chart equations, which this model does not have ({})", m.display(), Needs::Chart.describe()),
+        })
+    }
+}
+
+impl<S: Observe> DynEngine for Engine<S> {
+    fn columns(&self, sel: Sel) -> Vec<Column> {
+        let mut cols = Vec::new();
+        let mut vals = Vec::new();
+        self.problem.system().observe(sel, self.t, &self.y, &mut Row::described(&mut cols, &mut vals));
+        cols
+    }
+
+    fn row(&self, sel: Sel, out: &mut Vec<f64>) {
+        out.clear();
+        self.problem.system().observe(sel, self.t, &self.y, &mut Row::values(out));
+    }
+
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn energy(&self) -> f64 {
+        self.problem.system().energy(&self.y)
+    }
+
+    fn defect(&self) -> f64 {
+        self.problem.system().defect(&self.y)
+    }
+
+    fn supports(&self, needs: Needs) -> bool {
+        match needs {
+            Needs::Nothing => true,
+            Needs::ExactFreeFlow => self.problem.system().as_splittable().is_some(),
+            Needs::Chart => self.chart.is_some(),
+        }
+    }
+
+    fn step(&mut self, method: &Built, h: f64) -> Result<(), SolveError> {
+        if !(h.is_finite() && h != 0.0) {
+            return Err(SolveError::InvalidParameter { field: "h", value: h, allowed: "finite and ≠ 0" });
+        }
+        let sys = self.problem.system();
+        self.y = match method {
+            Built::Group(m) => m.step(sys, self.t, &self.y, h, StepRequest::plain()).map_err(|f| solve::fault_error(f, self.t, h))?.y,
+            Built::Chart(m) => self.chart(m)?.step(sys, m, self.t, &self.y, h)?,
+        };
+        self.t += h;
+        Ok(())
+    }
+
+    fn advance(&mut self, method: &Built, h: f64, n: usize, cancel: &AtomicBool) -> Result<StopReason, SolveError> {
+        if !(h.is_finite() && h != 0.0) {
+            return Err(SolveError::InvalidParameter { field: "h", value: h, allowed: "finite and ≠ 0" });
+        }
+        if n == 0 {
+            return Ok(StopReason::Finished);
+        }
+        let m = match method {
+            Built::Group(m) => *m,
+            Built::Chart(m) => {
+                let (stop, t, y) = self.chart(m)?.advance(self.problem.system(), m, self.t, &self.y, h, n, cancel);
+                if let Some(y) = y {
+                    self.t = t;
+                    self.y = y;
+                }
+                return stop;
+            }
+        };
+        let t_end = self.t + h * n as f64;
+        let settings = Settings { step: StepSize::Fixed(h.abs()), save: Save::Ends, dense: false, max_steps: n, event_xtol: 0.0 };
+        let mut events: &[Event<S::State>] = &[];
+        let mut control = Control { cancel: Some(cancel), progress: None };
+        let out = solve::drive(self.problem.system(), &m, self.t, &self.y, t_end, &settings, &mut events, &mut Discard, &mut control);
+        self.t = out.t;
+        self.y = out.y;
+        match out.stop {
+            Ok(reason) => Ok(reason),
+            Err(DriveError::Solve(e)) => Err(e),
+            Err(DriveError::Sink(never)) => match never {},
+        }
+    }
+
+    fn reset(&mut self) {
+        self.t = self.problem.t0();
+        self.y = *self.problem.y0();
+    }
+
+    fn run(&mut self, plan: &Plan, ctx: &mut Ctx<'_>) -> Result<(), RunError> {
+        self.reset();
+        let sys = self.problem.system();
+        let (t0, t_end) = (plan.t0, plan.t_end);
+        let user_progress = &mut *ctx.progress;
+        let mut last = ctx.last_progress;
+        // Progress at the driver's polls, at most every 50 ms.
+        let mut report = |t: f64, stats: &Stats| {
+            let now = Instant::now();
+            if now.duration_since(last).as_millis() >= 50 {
+                last = now;
+                let fraction = ((t - t0) / (t_end - t0)).clamp(0.0, 1.0);
+                user_progress(&Progress { t, t0, t_end, fraction, steps: stats.accepted as u64 });
+            }
+        };
+        let mut control = Control { cancel: Some(ctx.cancel), progress: Some(&mut report) };
+        let mut records = Records {
+            sys,
+            sel: plan.sel,
+            sink: &mut *ctx.sink,
+            summary: &mut ctx.summary,
+            mm_idx: &ctx.mm_idx,
+            events: &plan.events,
+            buf: Vec::new(),
+            mm0: Vec::new(),
+        };
+        let mut events = RecordEvents { sys, events: &plan.events, full: Vec::new() };
+        let (stop, stats) = match &plan.method {
+            Built::Group(m) => {
+                let out = solve::drive(sys, m, t0, self.problem.y0(), t_end, &plan.settings, &mut events, &mut records, &mut control);
+                self.t = out.t;
+                self.y = out.y;
+                let stop = match out.stop {
+                    Ok(r) => Ok(r),
+                    Err(DriveError::Solve(e)) => Err(RunError::Integration(e)),
+                    Err(DriveError::Sink(e)) => Err(e),
+                };
+                (stop, out.stats)
+            }
+            Built::Chart(m) => {
+                let twin = self.chart(m).map_err(RunError::Integration)?;
+                let out = twin.run(sys, m, t0, self.problem.y0(), t_end, &plan.settings, &mut records, &mut events, &mut control);
+                if let Some(y) = out.y {
+                    self.t = out.t;
+                    self.y = y;
+                }
+                (out.stop, out.stats)
+            }
+        };
+        let s = &mut ctx.summary;
+        s.steps = stats.accepted as u64;
+        s.rejected = stats.rejected as u64;
+        s.rhs_evals = stats.rhs_evals as u64;
+        s.t_reached = self.t;
+        match stop {
+            Ok(StopReason::Finished) => Ok(()),
+            Ok(StopReason::Cancelled) => {
+                s.stop = SceneStop::Cancelled;
+                Ok(())
+            }
+            Ok(StopReason::Event { index }) => {
+                s.stop = SceneStop::Event(plan.events[index].name().to_string());
+                Ok(())
+            }
+            Ok(StopReason::Failed(e)) => Err(RunError::Integration(e)),
+            Err(e) => Err(e),
+        }
+    }
+}
+
+/// A built scene: run it to a sink, or step it.
+pub struct Simulation {
+    pub(crate) engine: Box<dyn DynEngine>,
+    pub(crate) plan: Plan,
+    pub(crate) columns: Vec<Column>,
+    pub(crate) event_columns: Vec<Column>,
+    pub(crate) name: String,
+}
+
+impl fmt::Debug for Simulation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Simulation").field("name", &self.name).field("columns", &self.columns.len()).finish_non_exhaustive()
+    }
+}
+
+impl Simulation {
+    /// The columns of a record (see the [module docs](super)).
+    pub fn columns(&self) -> &[Column] {
+        &self.columns
+    }
+
+    /// `(N, E)`: the number of body frame vectors (0 for a point) and the
+    /// dimension of the embedding, the shape of the `frame` group of a
+    /// record (vectors in order, each with its `E` components).
+    pub fn frame_shape(&self) -> (usize, usize) {
+        use super::spec::Quantity;
+        let count = |q: Quantity| self.event_columns.iter().filter(|c| c.group == Some(q)).count();
+        let e = count(Quantity::Position);
+        (if e == 0 { 0 } else { count(Quantity::Frame) / e }, e)
+    }
+
+    /// The method's display name (the registry's).
+    pub fn method_name(&self) -> &'static str {
+        self.plan.method.display()
+    }
+
+    /// The columns an event function sees: every quantity, whatever
+    /// `output.quantities` selects.
+    pub fn event_columns(&self) -> &[Column] {
+        &self.event_columns
+    }
+
+    /// Adds an event on the full record ([`Self::event_columns`]), after
+    /// those of the scene's `[[events]]`, to later runs.
+    pub fn add_event(&mut self, event: Event<[f64]>) {
+        self.plan.events.push(event);
+    }
+
+    /// The events of a run.
+    pub fn events(&self) -> &[Event<[f64]>] {
+        &self.plan.events
+    }
+
+    /// Runs the scene from its initial state over its time span (the
+    /// simulation is reset first and left at the last state reached),
+    /// streaming records to `sink`; `cancel` is polled every few hundred
+    /// steps (a cancelled run stops cleanly with [`SceneStop::Cancelled`]
+    /// and the last state recorded); `progress` is called at most every
+    /// 50 ms, and once at the end.
+    ///
+    /// On an integration failure the records up to the last good state have
+    /// been written and the error comes with the summary ([`RunFailure`]).
+    pub fn run(&mut self, sink: &mut dyn RecordSink, cancel: &AtomicBool, progress: &mut dyn FnMut(&Progress)) -> Result<RunSummary, RunFailure> {
+        let started = Instant::now();
+        let mut summary = RunSummary::new(self.method_name(), self.plan.t0);
+        if let Err(e) = sink.columns(&self.columns) {
+            summary.stop = SceneStop::OutputError(e.to_string());
+            return Err(RunFailure { error: RunError::Io(e), summary });
+        }
+        let mm_idx = self.columns.iter().enumerate().filter(|(_, c)| c.group == Some(super::spec::Quantity::MomentumMap)).map(|(j, _)| j).collect();
+        let mut ctx = Ctx { sink, cancel, progress, summary, last_progress: started, mm_idx };
+        let result = self.engine.run(&self.plan, &mut ctx);
+        let (t0, t_end, t) = (self.plan.t0, self.plan.t_end, self.engine.t());
+        let fraction = ((t - t0) / (t_end - t0)).clamp(0.0, 1.0);
+        (ctx.progress)(&Progress { t, t0, t_end, fraction, steps: ctx.summary.steps });
+        let mut summary = ctx.summary;
+        summary.t_reached = t;
+        summary.wall_time = started.elapsed();
+        match result {
+            Ok(()) => Ok(summary),
+            Err(error) => {
+                summary.stop = match &error {
+                    RunError::Integration(e) => SceneStop::Failed(e.clone()),
+                    RunError::Io(e) => SceneStop::OutputError(e.to_string()),
+                    RunError::Scene(e) => SceneStop::OutputError(e.to_string()),
+                };
+                Err(RunFailure { error, summary })
+            }
+        }
+    }
+
+    /// Advances the current state by one step of size `h` with the scene's
+    /// method (stepping API; [`Self::run`] always starts again from the
+    /// initial state).
+    pub fn step(&mut self, h: f64) -> Result<(), SolveError> {
+        self.engine.step(&self.plan.method, h)
+    }
+
+    /// `n` steps of size `h` (the span `n·h` split exactly by the driver);
+    /// stops at the first failure, the steps before it done.
+    pub fn advance(&mut self, h: f64, n: usize) -> Result<(), SolveError> {
+        self.advance_cancellable(h, n, &AtomicBool::new(false)).map(|_| ())
+    }
+
+    /// [`Self::advance`], stopping cleanly within a few hundred steps after
+    /// `cancel` is raised ([`StopReason::Cancelled`], the state reached kept).
+    pub fn advance_cancellable(&mut self, h: f64, n: usize, cancel: &AtomicBool) -> Result<StopReason, SolveError> {
+        self.engine.advance(&self.plan.method, h, n, cancel)
+    }
+
+    /// Current time of the stepping API.
+    pub fn t(&self) -> f64 {
+        self.engine.t()
+    }
+
+    /// The current state as one record (values in the order of [`Self::columns`]).
+    pub fn row(&self) -> Vec<f64> {
+        let mut out = Vec::with_capacity(self.columns.len());
+        self.engine.row(self.plan.sel, &mut out);
+        out
+    }
+
+    /// The value of column `name` in the current state.
+    pub fn value(&self, name: &str) -> Option<f64> {
+        let j = self.columns.iter().position(|c| c.name == name)?;
+        Some(self.row()[j])
+    }
+
+    /// Energy of the current state.
+    pub fn energy(&self) -> f64 {
+        self.engine.energy()
+    }
+
+    /// Constraint defect of the current state.
+    pub fn defect(&self) -> f64 {
+        self.engine.defect()
+    }
+
+    /// Back to the initial state.
+    pub fn reset(&mut self) {
+        self.engine.reset()
+    }
+
+    /// The time span `(t₀, t_end)`.
+    pub fn span(&self) -> (f64, f64) {
+        (self.plan.t0, self.plan.t_end)
+    }
+}
