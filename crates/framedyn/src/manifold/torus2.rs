@@ -3,7 +3,7 @@
 use nalgebra::{SMatrix, SVector};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use super::{Manifold, Tensor3, Tensor4};
+use super::{GeodesicDistance, Manifold, Tensor3, Tensor4};
 use crate::error::{finite, positive};
 use crate::{Error, Result};
 
@@ -398,7 +398,9 @@ impl Manifold<2, 3> for Torus2 {
         let (n, _) = self.normal_at(p);
         w - n * n.dot(w)
     }
+}
 
+impl GeodesicDistance<2, 3> for Torus2 {
     /// Geodesic distance by [`Torus2::minimal_geodesic`] (accuracy documented
     /// there). Errors: as [`Manifold::chart`] for either point, or
     /// [`Error::NoConvergence`].
