@@ -16,9 +16,9 @@
 //!   the frame bundles, the dynamics and the integrators use.
 //! - **Optional**, the [`GeodesicDistance`] trait: the distance between two
 //!   points, used to check results. S², H² and S³ implement it in closed form
-//!   next to the manifold; T² by a numerical minimal-geodesic solver
-//!   ([`Torus2::minimal_geodesic`]: Clairaut quadratures and geodesic
-//!   shooting). A manifold without a closed-form distance can leave it out.
+//!   next to the manifold; T² by a numerical minimal-geodesic solver in the
+//!   [`geodesic`] module (Clairaut quadratures and geodesic shooting). A new
+//!   manifold need not implement it.
 //!
 //! ## Index conventions (used by every implementation)
 //! - Christoffel symbols `Γ^i_{jk} = christoffel(x)[i][j][k]`, symmetric in
@@ -34,6 +34,7 @@
 //!   for an orthonormal frame they are skew in `A, B`.
 
 pub mod distance;
+pub mod geodesic;
 pub mod hyperbolic2;
 pub mod sphere2;
 pub mod sphere3;
@@ -41,6 +42,8 @@ pub mod torus2;
 
 #[allow(unused_imports)]
 pub use distance::*;
+#[allow(unused_imports)]
+pub use geodesic::*;
 #[allow(unused_imports)]
 pub use hyperbolic2::*;
 #[allow(unused_imports)]
