@@ -8,7 +8,7 @@ use std::f64::consts::{PI, TAU};
 
 use framedyn::bundle::FrameBundle;
 use framedyn::lie::{dexp_inv_series, dexp_series, minkowski_dot, LieGroup, So12};
-use framedyn::manifold::{Hyperbolic2, Manifold};
+use framedyn::manifold::{GeodesicDistance, Hyperbolic2, Manifold};
 use framedyn::Error;
 use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};
 
@@ -18,7 +18,8 @@ use crate::bundle_laws::{
 };
 use crate::lie_law_suite;
 use crate::lie_laws::{expm_reference, mat_rel_diff};
-use crate::manifold_laws::{check_distance_laws, check_manifold_at};
+use crate::distance_laws::{check_distance_at, check_distance_laws};
+use crate::manifold_laws::check_manifold_at;
 
 // Algebra radius 2.5: entries of exp(a) up to cosh 2.5 ≈ 6.1, so the
 // `inverse`/`compose` laws (matrix products, compared relative to 1 + |I|)
@@ -422,6 +423,16 @@ mod props {
         let x = Vector2::new(r, phi);
         let k = -1.0 / (radius * radius);
         let res = check_manifold_at(&h, &x, |_, _| k, manifold_tol(r / radius));
+        prop_assert!(res.is_ok(), "{}", res.unwrap_err());
+    }
+
+    // The distance laws at the chart points of `manifold_laws`.
+    #[test]
+    fn distance_at_chart_points(radius in 0.3..5.0f64, t in 0.0..1.0f64, phi in -PI..PI) {
+        let h = Hyperbolic2::new(radius).unwrap();
+        let lo = 0.02 * radius;
+        let r = lo + t * (6.0 * radius - lo);
+        let res = check_distance_at(&h, &Vector2::new(r, phi));
         prop_assert!(res.is_ok(), "{}", res.unwrap_err());
     }
 

@@ -2,6 +2,7 @@
 //! implementation (one binary, so the crate is linked once).
 
 mod bundle_laws;
+mod distance_laws;
 mod lie_laws;
 mod manifold_laws;
 

@@ -9,7 +9,7 @@
 use std::cell::Cell;
 use std::f64::consts::PI;
 
-use framedyn::manifold::{Hyperbolic2, Manifold, Sphere2, Sphere3};
+use framedyn::manifold::{GeodesicDistance, Hyperbolic2, Manifold, Sphere2, Sphere3};
 use framedyn::potential::{
     autodiff_gradient, deformation_invariants, Axis, polar_invariants, principal_invariants, Central, Centre, CosineFamily,
     Elastic, FnPotential, Gradient, InvariantFunction, InvariantPotential, Kepler, NeoHookean, Oscillator, Pole, Potential,
@@ -935,11 +935,11 @@ fn distances_and_deformation_variables_match_their_definitions() {
 
 #[test]
 fn distances_from_any_centre_match_the_manifolds() {
-    // Centre::distance against Manifold::distance (an independent formula:
+    // Centre::distance against GeodesicDistance::distance (an independent formula:
     // atan2 of cross and dot products on S², spatial parts on H²), relative,
     // in units of ε (H²: times cosh² of the centre's distance from the origin).
     check(
-        "r from any centre vs Manifold::distance [units of ε·cond]",
+        "r from any centre vs GeodesicDistance::distance [units of ε·cond]",
         512,
         (s2_cfg(0.001, PI - 0.001), h2_cfg(0.001, 5.0), s3_cfg(0.001, 3.1), vec3(), vec4()),
         64.0,

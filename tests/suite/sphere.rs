@@ -4,7 +4,7 @@
 
 use framedyn::bundle::FrameBundle;
 use framedyn::lie::{dexp_series, LieGroup, So2, So3, Su2};
-use framedyn::manifold::{Manifold, Sphere2};
+use framedyn::manifold::{GeodesicDistance, Manifold, Sphere2};
 use framedyn::Error;
 use nalgebra::{Matrix2, Matrix3, Matrix3x2, Vector1, Vector2, Vector3};
 use proptest::prelude::*;
@@ -14,7 +14,8 @@ use crate::bundle_laws::{
     check_bundle_at, frame_defect, random_walk_defect, rkmk4_step, small_loop_holonomy, transport_along,
     transport_in_chart,
 };
-use crate::manifold_laws::{check_distance_laws, check_manifold_at};
+use crate::distance_laws::{check_distance_at, check_distance_laws};
+use crate::manifold_laws::check_manifold_at;
 
 /// The generic Lie-group laws. SO(3)'s log is principal for |ω| < π, SU(2)'s
 /// for |k| < 2π (radius 3 and 6); all three groups are compact, so the 10⁶
@@ -462,6 +463,16 @@ proptest! {
         let n = m.embed(&x) / radius;
         let c: Vector3<f64> = e.column(0).cross(&e.column(1));
         prop_assert!((c - n).amax() <= 1e-15);
+    }
+
+    /// The distance laws at the chart points of `sphere_manifold_laws`:
+    /// zero on the diagonal, `√(g dx dx)` for nearby points.
+    #[test]
+    fn sphere_distance_at_chart_points(radius in 0.3..5.0f64, u in 0.0..1.0f64, phi in -10.0..10.0f64) {
+        let m = Sphere2::new(radius).unwrap();
+        let x = Vector2::new((0.02 + 0.96 * u) * PI * radius, phi);
+        let r = check_distance_at(&m, &x);
+        prop_assert!(r.is_ok(), "{}", r.unwrap_err());
     }
 
     /// The point-wise laws on to within 1e-6·πR of the poles (difference

@@ -3,7 +3,7 @@
 
 use framedyn::bundle::FrameBundle;
 use framedyn::lie::{dexp_series, LieGroup, So4, So4Algebra};
-use framedyn::manifold::{Manifold, Sphere3};
+use framedyn::manifold::{GeodesicDistance, Manifold, Sphere3};
 use framedyn::Error;
 use nalgebra::{Matrix3, Matrix4, Matrix4x3, Quaternion, Rotation3, Vector3, Vector4};
 use proptest::prelude::*;
@@ -13,7 +13,8 @@ use crate::bundle_laws::{
     check_bundle_at, frame_components, frame_defect, random_walk_defect, rkmk4_step, small_loop_holonomy,
     transport_along, transport_in_chart,
 };
-use crate::manifold_laws::{check_distance_laws, check_manifold_at};
+use crate::distance_laws::{check_distance_at, check_distance_laws};
+use crate::manifold_laws::check_manifold_at;
 
 // ---------------------------------------------------------------------------
 // Helpers (independent of the library: nalgebra's quaternions, literal formulas).
@@ -271,6 +272,14 @@ proptest! {
         prop_assert!(r.is_ok(), "{}", r.unwrap_err());
     }
 
+    /// The distance laws at the chart points of `manifold_laws`.
+    #[test]
+    fn distance_at_chart_points(dir in dir_strategy(), frac in frac_strategy(), radius in 0.3..5.0f64) {
+        let m = s3(radius);
+        let r = check_distance_at(&m, &chart_point(&dir, frac, radius));
+        prop_assert!(r.is_ok(), "{}", r.unwrap_err());
+    }
+
     /// The connection coefficients of both of the paper's frames, ˡE (also
     /// covered by the shared laws) and ʳE, from their definition
     /// `E⁻¹(∂_{E_C} E_B + Γ(E_C) E_B)` with steps scaled to the fields' length
@@ -377,6 +386,7 @@ fn manifold_at_chart_centre_and_special_points() {
         let m = s3(radius);
         let k = 1.0 / (radius * radius);
         check_manifold_at(&m, &Vector3::zeros(), |_, _| k, 1e-15).unwrap();
+        check_distance_at(&m, &Vector3::zeros()).unwrap();
         // Tiny points: the series branches, no division by r.
         for r in [1e-300, 1e-160, 1e-20] {
             let x = Vector3::new(r, -r, 0.5 * r);

@@ -4,10 +4,11 @@
 //! (small loops and Gauss–Bonnet on bands) and typed errors.
 
 use crate::bundle_laws::{check_bundle_at, random_walk_defect, small_loop_holonomy, transport_along, transport_in_chart};
-use crate::manifold_laws::{check_distance_laws, check_manifold_at};
+use crate::distance_laws::{check_distance_at, check_distance_laws};
+use crate::manifold_laws::check_manifold_at;
 use framedyn::bundle::FrameBundle;
 use framedyn::lie::Rn;
-use framedyn::manifold::{Manifold, Torus2};
+use framedyn::manifold::{GeodesicDistance, Manifold, Torus2};
 use framedyn::Error;
 use nalgebra::{SMatrix, SVector};
 use proptest::prelude::*;
@@ -154,6 +155,18 @@ fn path_upper_bound(t: &Torus2, a: &V2, b: &V2) -> f64 {
     ]
     .into_iter()
     .fold(f64::INFINITY, f64::min)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// The distance laws at the chart points of `manifold_laws`: zero on the
+    /// diagonal, `√(g dx dx)` for nearby points.
+    #[test]
+    fn distance_at_chart_points(lambda in 1.05..10.0f64, r in 0.3..3.0f64, th in -7.0..7.0f64, ph in -7.0..7.0f64) {
+        let res = check_distance_at(&torus(lambda, r), &v2(th, ph));
+        prop_assert!(res.is_ok(), "{}", res.unwrap_err());
+    }
 }
 
 proptest! {

@@ -8,7 +8,7 @@
 
 use nalgebra::{SMatrix, SVector, Vector2, Vector3};
 
-use super::{Manifold, Tensor3, Tensor4};
+use super::{GeodesicDistance, Manifold, Tensor3, Tensor4};
 use crate::error::{finite, positive};
 use crate::lie::minkowski_dot;
 use crate::{Error, Result};
@@ -299,7 +299,9 @@ impl Manifold<2, 3> for Hyperbolic2 {
         let n = self.project_point(p) / self.radius;
         w + n * minkowski_dot(w, &n)
     }
+}
 
+impl GeodesicDistance<2, 3> for Hyperbolic2 {
     /// Geodesic distance `d`, from
     /// `sinh²(d/2R) = sinh²((ϑ₁ − ϑ₂)/2) + sinh ϑ₁ sinh ϑ₂ sin²(Δφ/2)`
     /// (the hyperbolic law of cosines in half-angle form, equal to

@@ -5,6 +5,21 @@
 //! the Christoffel symbols, the Riemann tensor, the paper's orthonormal frame
 //! field `E` with its connection coefficients, and the embedding.
 //!
+//! ## What a manifold provides
+//! - **Required**, the [`Manifold`] trait: the chart and its regular part
+//!   (`coordinate_names`, `check_chart`); the metric, Christoffel symbols and
+//!   Riemann tensor in closed form (`sectional_curvature` has a default); the
+//!   frame field and its connection coefficients; the embedding, its inverse
+//!   and the projections onto the manifold and its tangent spaces
+//!   (`ambient_metric`, `embed`, `embed_tangent`, `chart`, `chart_tangent`,
+//!   `point_defect`, `project_point`, `project_tangent`). This is everything
+//!   the frame bundles, the dynamics and the integrators use.
+//! - **Optional**, the [`GeodesicDistance`] trait: the distance between two
+//!   points, used to check results. S², H² and S³ implement it in closed form
+//!   next to the manifold; T² by a numerical minimal-geodesic solver in the
+//!   [`geodesic`] module (Clairaut quadratures and geodesic shooting). A new
+//!   manifold need not implement it.
+//!
 //! ## Index conventions (used by every implementation)
 //! - Christoffel symbols `Γ^i_{jk} = christoffel(x)[i][j][k]`, symmetric in
 //!   `j, k`: `∇_{∂_k} ∂_j = Γ^i_{jk} ∂_i`.
@@ -18,11 +33,17 @@
 //!   `Γ^A_{BC} = frame_connection(x)[A][B][C]` with `∇_{E_C} E_B = Γ^A_{BC} E_A`;
 //!   for an orthonormal frame they are skew in `A, B`.
 
+pub mod distance;
+pub mod geodesic;
 pub mod hyperbolic2;
 pub mod sphere2;
 pub mod sphere3;
 pub mod torus2;
 
+#[allow(unused_imports)]
+pub use distance::*;
+#[allow(unused_imports)]
+pub use geodesic::*;
 #[allow(unused_imports)]
 pub use hyperbolic2::*;
 #[allow(unused_imports)]
@@ -44,7 +65,8 @@ pub type Tensor4<const N: usize> = [[[[f64; N]; N]; N]; N];
 
 /// An `N`-dimensional Riemannian manifold with the paper's chart and frame
 /// field, embedded in an `E`-dimensional flat ambient space (Euclidean, or
-/// Minkowski for H²). See the [module documentation](self) for conventions.
+/// Minkowski for H²). See the [module documentation](self) for conventions;
+/// the geodesic distance is the optional [`GeodesicDistance`].
 pub trait Manifold<const N: usize, const E: usize>: Clone + Debug + Send + Sync {
     /// Name, e.g. `"S2"`.
     const NAME: &'static str;
@@ -116,6 +138,4 @@ pub trait Manifold<const N: usize, const E: usize>: Clone + Debug + Send + Sync 
     fn project_point(&self, p: &SVector<f64, E>) -> SVector<f64, E>;
     /// The tangential part of the ambient vector `w` at the point `p`.
     fn project_tangent(&self, p: &SVector<f64, E>, w: &SVector<f64, E>) -> SVector<f64, E>;
-    /// Geodesic distance between two embedded points.
-    fn distance(&self, p: &SVector<f64, E>, q: &SVector<f64, E>) -> Result<f64>;
 }

@@ -2,7 +2,7 @@
 
 use nalgebra::{Matrix2, Matrix3, Matrix3x2, Vector2, Vector3};
 
-use super::{Manifold, Tensor3, Tensor4};
+use super::{GeodesicDistance, Manifold, Tensor3, Tensor4};
 use crate::{Error, Result};
 
 /// The sphere of radius `R` centred at the origin of ℝ³ (paper §5.1).
@@ -46,7 +46,7 @@ impl Sphere2 {
     /// polar chart is used; closer to a pole it reports [`Error::OutsideChart`].
     pub const POLE_TOLERANCE: f64 = 1e-12;
     /// Largest relative defect `||p| − R|/R` of an embedded point accepted by
-    /// [`Manifold::chart`], [`Manifold::distance`] and the bundle's `from_frame`.
+    /// [`Manifold::chart`], [`GeodesicDistance::distance`] and the bundle's `from_frame`.
     pub const POINT_TOLERANCE: f64 = 1e-9;
 
     /// The sphere of radius `radius`; fails unless `radius` is finite and > 0.
@@ -268,7 +268,9 @@ impl Manifold<2, 3> for Sphere2 {
         let n = p / p.norm();
         w - n * n.dot(w)
     }
+}
 
+impl GeodesicDistance<2, 3> for Sphere2 {
     /// `R·atan2(|p × q|, p·q)`, the angle between the two given vectors
     /// (their lengths do not matter). Unlike `acos` it is accurate for nearby
     /// and for nearly antipodal points; the cross product is formed with

@@ -2,7 +2,7 @@
 
 use nalgebra::{Matrix3, Matrix4, Matrix4x3, Vector3, Vector4};
 
-use super::{Manifold, Tensor3, Tensor4};
+use super::{GeodesicDistance, Manifold, Tensor3, Tensor4};
 use crate::error::{finite, positive};
 use crate::lie::special::{cosc, dexpinv, sinc, sinc3};
 use crate::{Error, Result};
@@ -14,7 +14,7 @@ use crate::{Error, Result};
 pub const S3_CHART_MARGIN: f64 = 1e-6;
 
 /// Relative defect `||p| − R|/R` accepted by [`Manifold::chart`],
-/// [`Manifold::chart_tangent`] and [`Manifold::distance`].
+/// [`Manifold::chart_tangent`] and [`GeodesicDistance::distance`].
 pub const S3_POINT_TOLERANCE: f64 = 1e-9;
 
 /// The three-sphere S³(R) ⊂ ℝ⁴ of radius `R` (the paper's §6, the "Einstein
@@ -401,7 +401,9 @@ impl Manifold<3, 4> for Sphere3 {
             w - p * (p.dot(w) / n2)
         }
     }
+}
 
+impl GeodesicDistance<3, 4> for Sphere3 {
     /// `R·atan2(|p ∧ q|, p·q)`, with the six components of the bivector
     /// `p ∧ q` (accurate for close and for antipodal points).
     fn distance(&self, p: &Vector4<f64>, q: &Vector4<f64>) -> Result<f64> {
