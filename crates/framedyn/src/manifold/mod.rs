@@ -21,6 +21,7 @@
 pub mod hyperbolic2;
 pub mod sphere2;
 pub mod sphere3;
+pub mod spheroid;
 pub mod torus2;
 
 #[allow(unused_imports)]
@@ -29,6 +30,8 @@ pub use hyperbolic2::*;
 pub use sphere2::*;
 #[allow(unused_imports)]
 pub use sphere3::*;
+#[allow(unused_imports)]
+pub use spheroid::*;
 #[allow(unused_imports)]
 pub use torus2::*;
 
