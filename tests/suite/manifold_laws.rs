@@ -84,26 +84,59 @@ pub fn christoffel_fd<M: Manifold<N, E>, const N: usize, const E: usize>(m: &M, 
     out
 }
 
-/// Checks, at the chart point `x`: closed-form Christoffel symbols = finite
-/// differences of the metric; Riemann tensor = its definition from finite
-/// differences of the Christoffel symbols; sectional curvature of the frame
-/// planes = `k_expected(A, B)`; frame `E` orthonormal; `Γ^A_{BC}` skew in
-/// `A, B` and equal to its definition `E⁻¹(∂_{E_C} E_B + Γ(E_C) E_B)`; the
-/// embedding pulls the ambient metric back to `g`, `embed_tangent` is its
-/// derivative, and `chart`/`chart_tangent` invert `embed`/`embed_tangent`.
+/// Checks, at the chart point `x`, [`check_geometry_at`] and the local laws of
+/// the geodesic distance: `d(p, p) = 0` and `d ≈ √(g dx dx)` for nearby points.
 pub fn check_manifold_at<M: Manifold<N, E>, const N: usize, const E: usize>(
     m: &M,
     x: &SVector<f64, N>,
     k_expected: impl Fn(usize, usize) -> f64,
     tol: f64,
 ) -> Result<(), String> {
-    let check = |name: &str, err: f64, bound: f64| -> Result<(), String> {
+    check_geometry_at(m, x, k_expected, tol)?;
+    let check = law_check::<M, N, E>(x);
+    // Distance: zero on the diagonal; first-order agreement with the metric.
+    let p = m.embed(x);
+    let g = m.metric(x);
+    let v: SVector<f64, N> = SVector::from_fn(|i, _| 0.3 + 0.7 * i as f64);
+    check("d(p, p) = 0", m.distance(&p, &p).map_err(|e| e.to_string())?, 1e-7)?;
+    let dx = v * 1e-4;
+    let q = m.embed(&(x + dx));
+    let d = m.distance(&p, &q).map_err(|e| e.to_string())?;
+    let ds = dx.dot(&(g * dx)).sqrt();
+    check("d ≈ √(g dx dx) for nearby points", (d - ds).abs() / ds, 1e-3)?;
+    Ok(())
+}
+
+/// `check(name, err, bound)`: `Ok` if `err` is finite and `≤ bound`, else a
+/// message naming the manifold, the point and the law.
+fn law_check<M: Manifold<N, E>, const N: usize, const E: usize>(
+    x: &SVector<f64, N>,
+) -> impl Fn(&str, f64, f64) -> Result<(), String> + '_ {
+    move |name: &str, err: f64, bound: f64| {
         if err <= bound && err.is_finite() {
             Ok(())
         } else {
             Err(format!("{} at {x:?}: law `{name}` violated, error {err:e} > {bound:e}", M::NAME))
         }
-    };
+    }
+}
+
+/// Checks, at the chart point `x`: closed-form Christoffel symbols = finite
+/// differences of the metric; Riemann tensor = its definition from finite
+/// differences of the Christoffel symbols; sectional curvature of the frame
+/// planes = `k_expected(A, B)`; frame `E` orthonormal; `Γ^A_{BC}` skew in
+/// `A, B` and equal to its definition `E⁻¹(∂_{E_C} E_B + Γ(E_C) E_B)`; the
+/// embedding pulls the ambient metric back to `g`, `embed_tangent` is its
+/// derivative, `chart`/`chart_tangent` invert `embed`/`embed_tangent`, and
+/// `project_point`/`project_tangent` land on the manifold / its tangent space.
+/// Everything [`check_manifold_at`] checks except the geodesic distance.
+pub fn check_geometry_at<M: Manifold<N, E>, const N: usize, const E: usize>(
+    m: &M,
+    x: &SVector<f64, N>,
+    k_expected: impl Fn(usize, usize) -> f64,
+    tol: f64,
+) -> Result<(), String> {
+    let check = law_check::<M, N, E>(x);
     m.check_chart(x).map_err(|e| format!("{} at {x:?}: check_chart failed: {e}", M::NAME))?;
     let g = m.metric(x);
     check("metric symmetric", (g - g.transpose()).amax(), 0.0)?;
@@ -201,14 +234,6 @@ pub fn check_manifold_at<M: Manifold<N, E>, const N: usize, const E: usize>(
     check("tangent vectors are tangent", (m.project_tangent(&p, &w) - w).amax() / (1.0 + w.amax()), tol)?;
     let off = p * 1.001;
     check("project_point lands on manifold", m.point_defect(&m.project_point(&off)), tol)?;
-
-    // Distance: zero on the diagonal; first-order agreement with the metric.
-    check("d(p, p) = 0", m.distance(&p, &p).map_err(|e| e.to_string())?, 1e-7)?;
-    let dx = v * 1e-4;
-    let q = m.embed(&(x + dx));
-    let d = m.distance(&p, &q).map_err(|e| e.to_string())?;
-    let ds = dx.dot(&(g * dx)).sqrt();
-    check("d ≈ √(g dx dx) for nearby points", (d - ds).abs() / ds, 1e-3)?;
     Ok(())
 }
 

@@ -221,7 +221,7 @@ impl FrameBundle<2, 3> for Spheroid {
         let k2 = self.axis_ratio_squared();
         let bn = Vector3::new(n[0], n[1], k2 * n[2]);
         let bndot = Vector3::new(ndot[0], ndot[1], k2 * ndot[2]);
-        let w2 = n.dot(&bn);
+        let w2 = self.w2_of_normal(&n);
         let xdot = (bndot - bn * (bn.dot(&ndot) / w2)) * (self.equatorial_radius() / w2.sqrt());
         (xdot, qdot.fixed_columns::<2>(1).into_owned())
     }

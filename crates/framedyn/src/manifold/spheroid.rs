@@ -133,8 +133,8 @@ use crate::{Error, Result};
 ///
 /// # Aspect ratio
 ///
-/// [`Spheroid::new`] refuses `c/a` outside
-/// `[1/`[`Spheroid::MAX_ASPECT_RATIO`]`, MAX_ASPECT_RATIO]` (= 10³). The frame
+/// [`Spheroid::new`] refuses `c/a` outside `[10⁻³, 10³]`
+/// ([`Spheroid::MAX_ASPECT_RATIO`]). The frame
 /// bundle stores the outward normal `n` and computes the position as `x(n)`;
 /// the differential of `x(n)` is the inverse shape operator, whose norm is the
 /// largest radius of curvature, `max(M, N) ≤ max(a, c)·r` with
@@ -150,6 +150,8 @@ use crate::{Error, Result};
 pub struct Spheroid {
     a: f64,
     c: f64,
+    /// `k = c/a`.
+    k: f64,
     /// `k² = (c/a)²`.
     k2: f64,
     /// `1 − k² = (a − c)(a + c)/a²` (exactly 0 for `a = c`).
@@ -202,7 +204,7 @@ impl Spheroid {
         // a − c is exact when a and c are within a factor 2 (Sterbenz), so
         // these are accurate near the sphere; written so as not to overflow.
         let (da, dc) = ((a - c) / a, (a - c) / c);
-        Ok(Spheroid { a, c, k2: k * k, one_minus_k2: da * (1.0 + k), inv_k2_minus_one: dc * (1.0 + a / c) })
+        Ok(Spheroid { a, c, k, k2: k * k, one_minus_k2: da * (1.0 + k), inv_k2_minus_one: dc * (1.0 + a / c) })
     }
 
     /// The equatorial radius `a`.
@@ -275,14 +277,18 @@ impl Spheroid {
     }
 
     /// The point with outward normal direction `n` (any non-zero length: the
-    /// map is homogeneous of degree 0): `x(n) = a (n_x, n_y, k² n_z)/√(n_x² +
-    /// n_y² + k² n_z²)`, the inverse of the Gauss map (type docs). It lies on
-    /// the spheroid to round-off for every `n`, since `x(n)ᵀD x(n) = 1`
-    /// identically.
+    /// map is homogeneous of degree 0): `x(n) = (a² n_x, a² n_y, c² n_z)/(a W)`,
+    /// `W = √(n_x² + n_y² + k² n_z²)`, the inverse of the Gauss map (type
+    /// docs). It lies on the spheroid to round-off for every `n`, since
+    /// `x(n)ᵀD x(n) = 1` identically. Evaluated as `(a n_x/W, a n_y/W, c t/W)`
+    /// with `t = k n_z`, `W = √(n_x² + n_y² + t²)`: at the poles `W = √(t·t) = |t|`
+    /// exactly (a correctly rounded square root of a square), so the poles are
+    /// `(0, 0, ±c)` to the last bit, and for `a = c` this is S²'s `R n`.
     #[inline]
     pub fn point_with_normal(&self, n: &Vector3<f64>) -> Vector3<f64> {
-        let w2 = n[0] * n[0] + n[1] * n[1] + self.k2 * n[2] * n[2];
-        Vector3::new(n[0], n[1], self.k2 * n[2]) * (self.a / w2.sqrt())
+        let t = self.k * n[2];
+        let w = (n[0] * n[0] + n[1] * n[1] + t * t).sqrt();
+        Vector3::new(self.a * (n[0] / w), self.a * (n[1] / w), self.c * (t / w))
     }
 
     /// The unit outward normal at the embedded point `p` (or, for `p` off the
