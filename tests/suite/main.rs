@@ -21,6 +21,7 @@ mod scenes;
 mod scenes_golden;
 mod sphere;
 mod sphere3;
+mod spheroid;
 mod splitting;
 mod stability;
 mod implicit;

@@ -85,26 +85,36 @@ pub fn christoffel_fd<M: Manifold<N, E>, const N: usize, const E: usize>(m: &M, 
     out
 }
 
+/// `check(name, err, bound)`: `Ok` if `err` is finite and `≤ bound`, else a
+/// message naming the manifold, the point and the law.
+fn law_check<M: Manifold<N, E>, const N: usize, const E: usize>(
+    x: &SVector<f64, N>,
+) -> impl Fn(&str, f64, f64) -> Result<(), String> + '_ {
+    move |name: &str, err: f64, bound: f64| {
+        if err <= bound && err.is_finite() {
+            Ok(())
+        } else {
+            Err(format!("{} at {x:?}: law `{name}` violated, error {err:e} > {bound:e}", M::NAME))
+        }
+    }
+}
+
 /// Checks, at the chart point `x`: closed-form Christoffel symbols = finite
 /// differences of the metric; Riemann tensor = its definition from finite
 /// differences of the Christoffel symbols; sectional curvature of the frame
 /// planes = `k_expected(A, B)`; frame `E` orthonormal; `Γ^A_{BC}` skew in
 /// `A, B` and equal to its definition `E⁻¹(∂_{E_C} E_B + Γ(E_C) E_B)`; the
 /// embedding pulls the ambient metric back to `g`, `embed_tangent` is its
-/// derivative, and `chart`/`chart_tangent` invert `embed`/`embed_tangent`.
+/// derivative, `chart`/`chart_tangent` invert `embed`/`embed_tangent`, and
+/// `project_point`/`project_tangent` land on the manifold / its tangent space.
+/// (The geodesic distance, optional, has its own suite: `distance_laws`.)
 pub fn check_manifold_at<M: Manifold<N, E>, const N: usize, const E: usize>(
     m: &M,
     x: &SVector<f64, N>,
     k_expected: impl Fn(usize, usize) -> f64,
     tol: f64,
 ) -> Result<(), String> {
-    let check = |name: &str, err: f64, bound: f64| -> Result<(), String> {
-        if err <= bound && err.is_finite() {
-            Ok(())
-        } else {
-            Err(format!("{} at {x:?}: law `{name}` violated, error {err:e} > {bound:e}", M::NAME))
-        }
-    };
+    let check = law_check::<M, N, E>(x);
     m.check_chart(x).map_err(|e| format!("{} at {x:?}: check_chart failed: {e}", M::NAME))?;
     let g = m.metric(x);
     check("metric symmetric", (g - g.transpose()).amax(), 0.0)?;

@@ -4,8 +4,8 @@
 //! An element `g` of the bundle is a point `x` of the manifold together with an
 //! orthonormal (for H²: Minkowski-orthonormal), positively oriented frame
 //! `q = (q_1 … q_N)` of `T_xM`. It is stored as an element of a Lie group
-//! [`FrameBundle::Group`] — SO(3) for S², SO⁺(1,2) for H², SO(4) for S³, the
-//! global angles (θ, φ, a) ∈ ℝ³ for T² — so that integrators can move it by
+//! [`FrameBundle::Group`] — SO(3) for S² and for the spheroid (through its Gauss
+//! map), SO⁺(1,2) for H², SO(4) for S³, the global angles (θ, φ, a) ∈ ℝ³ for T² — so that integrators can move it by
 //! exponentials and it never meets a coordinate pole.
 //!
 //! **Horizontal lift.** A curve whose velocity has components `u` in the
@@ -17,6 +17,7 @@
 pub mod hyperbolic2;
 pub mod sphere2;
 pub mod sphere3;
+pub mod spheroid;
 pub mod torus2;
 
 #[allow(unused_imports)]
@@ -25,6 +26,8 @@ pub use hyperbolic2::*;
 pub use sphere2::*;
 #[allow(unused_imports)]
 pub use sphere3::*;
+#[allow(unused_imports)]
+pub use spheroid::*;
 #[allow(unused_imports)]
 pub use torus2::*;
 

@@ -38,6 +38,7 @@ pub mod geodesic;
 pub mod hyperbolic2;
 pub mod sphere2;
 pub mod sphere3;
+pub mod spheroid;
 pub mod torus2;
 
 #[allow(unused_imports)]
@@ -50,6 +51,8 @@ pub use hyperbolic2::*;
 pub use sphere2::*;
 #[allow(unused_imports)]
 pub use sphere3::*;
+#[allow(unused_imports)]
+pub use spheroid::*;
 #[allow(unused_imports)]
 pub use torus2::*;
 
