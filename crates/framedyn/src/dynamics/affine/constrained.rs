@@ -80,7 +80,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use super::affine::{
+use super::{
     conformality_defect, inverse, linear_collapse_time, trace_of_product, Additive, AffineBodyModel, BodyState,
     Inertia, InternalConstraint, Kinematics, MatrixAlgebra, STATE_TOLERANCE,
 };
