@@ -26,8 +26,8 @@
 //!
 //! # Equations of motion (derived from (a52))
 //!
-//! Kinetic energy. `q` is parallel, `Dq_a/Dt = 0`, hence `De/Dt = q ρ̇` and,
-//! `q` being orthonormal, (a52) becomes
+//! Kinetic energy. `q` is parallel, `Dq_a/Dt = 0`, hence `De/Dt = q ρ̇`
+//! ([`AffineBodyModel::frame_rate`]) and, `q` being orthonormal, (a52) becomes
 //!
 //! ```text
 //! T = (m/2)|u|² + ½ tr(ρ̇ J ρ̇ᵀ)                                (SPEC §3.2)

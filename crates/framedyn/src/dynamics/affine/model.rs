@@ -265,6 +265,28 @@ where
     pub fn body_frame(&self, y: &BodyState<B, C, N, E>) -> SMatrix<f64, E, N> {
         self.bundle.frame_vectors(&y.0 .0) * self.rho(y)
     }
+    /// The covariant rate of the body frame, `De/Dt = qρ̇ = eΩ̂` (column `A`
+    /// is `De_A/Dt`, ambient coordinates, the layout of [`Self::body_frame`]):
+    /// the paper's internal velocity `V^i_A = De^i_A/Dt` of §2, the velocity
+    /// of the internal kinetic energy `½⟨De_A/Dt, De_B/Dt⟩J^{AB}` of (a52),
+    /// `De_A/Dt = e_B Ω̂^B_A` (before (a74)). The frame `q` is
+    /// parallel-transported, `Dq_a/Dt = 0`, so only `ρ` contributes.
+    ///
+    /// It is the tangential part of the ordinary derivative of the embedded
+    /// frame. `de/dt = q̇ρ + qρ̇`, and `q̇` is normal
+    /// ([`FrameBundle::frame_velocity`] of the horizontal lift), so (Gauss
+    /// formula)
+    ///
+    /// ```text
+    /// de_A/dt = De_A/Dt − ε II(ẋ, e_A) n,      II(X, Y) = ⟨dn(X), Y⟩,   ε = ⟨n, n⟩
+    /// ```
+    ///
+    /// with `n` the unit normal, `II` the second fundamental form and `⟨·,·⟩`
+    /// the ambient metric (`ε = −1` on H², `+1` otherwise). On a sphere or
+    /// hyperboloid (`n = x/R`) the normal part is `−⟨ẋ, e_A⟩ x/⟨x, x⟩`.
+    pub fn frame_rate(&self, y: &BodyState<B, C, N, E>) -> SMatrix<f64, E, N> {
+        self.bundle.frame_vectors(&y.0 .0) * self.rho_dot(y)
+    }
 
     // -- forces -------------------------------------------------------------------
 
