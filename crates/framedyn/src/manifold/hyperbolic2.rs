@@ -146,6 +146,10 @@ impl Manifold<2, 3> for Hyperbolic2 {
         ["r", "phi"]
     }
 
+    fn coordinate_units(&self) -> [&'static str; 2] {
+        ["L", "rad"]
+    }
+
     /// `Ok` for finite `(r, φ)` with `r > 0`; [`Error::NotFinite`] (field
     /// `"x"`) or [`Error::OutsideChart`] (`r ≤ 0`: the origin, where `E_φ` is
     /// singular, or outside the coordinate range) otherwise.

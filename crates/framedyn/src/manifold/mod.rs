@@ -76,6 +76,10 @@ pub trait Manifold<const N: usize, const E: usize>: Clone + Debug + Send + Sync 
 
     /// Names of the chart coordinates as in the paper, e.g. `["r", "phi"]`.
     fn coordinate_names(&self) -> [&'static str; N];
+    /// The unit of each chart coordinate: `"L"` (a length, e.g. the
+    /// geodesic distance `r`) or `"rad"` (an angle); their rates are per
+    /// `T`. Used to label output columns.
+    fn coordinate_units(&self) -> [&'static str; N];
     /// `Ok` if `x` lies in the regular part of the chart (where the metric is
     /// non-degenerate and the frame field `E` is defined), else
     /// [`Error::OutsideChart`](crate::Error::OutsideChart).

@@ -134,6 +134,10 @@ impl Manifold<2, 3> for Sphere2 {
         ["r", "phi"]
     }
 
+    fn coordinate_units(&self) -> [&'static str; 2] {
+        ["L", "rad"]
+    }
+
     /// `Ok` iff `r`, `φ` are finite, `0 < r/R < π` and
     /// `sin(r/R) >` [`Sphere2::POLE_TOLERANCE`].
     fn check_chart(&self, x: &Vector2<f64>) -> Result<()> {

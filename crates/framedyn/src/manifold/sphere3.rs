@@ -242,6 +242,10 @@ impl Manifold<3, 4> for Sphere3 {
         ["r1", "r2", "r3"]
     }
 
+    fn coordinate_units(&self) -> [&'static str; 3] {
+        ["L", "L", "L"]
+    }
+
     fn check_chart(&self, x: &Vector3<f64>) -> Result<()> {
         finite("x", x.iter())?;
         if x.norm() / self.radius >= std::f64::consts::PI - S3_CHART_MARGIN {

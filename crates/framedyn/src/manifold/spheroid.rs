@@ -414,6 +414,10 @@ impl Manifold<2, 3> for Spheroid {
         ["lat", "lon"]
     }
 
+    fn coordinate_units(&self) -> [&'static str; 2] {
+        ["rad", "rad"]
+    }
+
     /// `Ok` iff `φ`, `λ` are finite, `|φ| < π/2` and `cos φ >`
     /// [`Spheroid::POLE_TOLERANCE`].
     fn check_chart(&self, x: &Vector2<f64>) -> Result<()> {

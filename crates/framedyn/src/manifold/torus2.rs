@@ -149,6 +149,10 @@ impl Manifold<2, 3> for Torus2 {
         ["theta", "phi"]
     }
 
+    fn coordinate_units(&self) -> [&'static str; 2] {
+        ["rad", "rad"]
+    }
+
     /// The angles are global: every finite chart point is regular.
     fn check_chart(&self, x: &SVector<f64, 2>) -> Result<()> {
         if x.iter().all(|v| v.is_finite()) {
