@@ -56,6 +56,9 @@ fn examples_cover_every_manifold_body_and_potential() {
             assert!(scenes.iter().any(|s| s.manifold.kind == m && s.body.kind == b), "{m:?} x {b:?}");
         }
     }
+    for b in [BodyKind::Point, BodyKind::Gyroscope, BodyKind::Affine] {
+        assert!(scenes.iter().any(|s| s.manifold.kind == ManifoldKind::Spheroid && s.body.kind == b), "spheroid x {b:?}");
+    }
     fn kinds(p: &framedyn::scenes::PotentialSpec, out: &mut Vec<PotentialKind>) {
         out.push(p.kind);
         for t in p.terms.iter().flatten() {

@@ -1098,3 +1098,109 @@ fn a_meridian_motion_crosses_the_pole() {
         assert!(matches!(m.chart(&Vector3::new(0.0, 0.0, c)), Err(Error::OutsideChart { .. })));
     }
 }
+
+// ---------------------------------------------------------------------------
+// Through scenes
+// ---------------------------------------------------------------------------
+
+/// A scene on the spheroid with `a = c = 1` reproduces the same scene on the
+/// unit sphere (point and gyroscope, initial state in embedding components,
+/// a potential in the height) to ≤ 1e-12 in every embedding column and the
+/// energy; the spheroid's chart columns are its own (`lat`, `lon`).
+#[test]
+fn a_round_spheroid_scene_reproduces_the_sphere_scene() {
+    use framedyn::scenes::{MemorySink, Scene};
+    use std::sync::atomic::AtomicBool;
+    let run = |manifold: &str, body: &str, initial: &str| {
+        let text = format!(
+            r#"
+            manifold = {manifold}
+            body = {body}
+            potential = {{ kind = "cosine", alpha_hat = 0.2, beta_hat = -0.3 }}
+            initial = {initial}
+            method = {{ name = "dop853", h = 0.01 }}
+            time = {{ t_end = 3.0 }}
+            output = {{ every = 20 }}
+            "#
+        );
+        let mut sim = Scene::from_toml_str(&text).unwrap().build().unwrap();
+        let mut sink = MemorySink::default();
+        sim.run(&mut sink, &AtomicBool::new(false), &mut |_| {}).unwrap();
+        sink
+    };
+    let (x, v) = (Vector3::new(0.6f64.sin(), 0.0, 0.6f64.cos()), Vector3::new(0.0, 0.7, 0.2));
+    let v = v - x * x.dot(&v);
+    let e1 = v.normalize();
+    let e2 = x.cross(&e1);
+    let fmt = |u: &Vector3<f64>| format!("[{}, {}, {}]", u[0], u[1], u[2]);
+    for (body, initial) in [
+        ("{ kind = \"point\" }".to_string(), format!("{{ position = {}, velocity = {} }}", fmt(&x), fmt(&v))),
+        (
+            "{ kind = \"gyroscope\", inertia = 0.2 }".to_string(),
+            format!("{{ position = {}, velocity = {}, frame = [{}, {}], spin = 0.07 }}", fmt(&x), fmt(&v), fmt(&e1), fmt(&e2)),
+        ),
+    ] {
+        let s2 = run("{ kind = \"S2\", radius = 1.0 }", &body, &initial);
+        let sph = run("{ kind = \"spheroid\", equatorial_radius = 1.0, polar_radius = 1.0 }", &body, &initial);
+        assert_eq!(s2.rows.len(), sph.rows.len());
+        for name in ["t", "x0", "x1", "x2", "v0", "v1", "v2", "energy"] {
+            let (a, b) = (s2.column(name).unwrap(), sph.column(name).unwrap());
+            let worst = a.iter().zip(&b).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+            assert!(worst <= 1e-12, "{body}: {name} differs by {worst:e}");
+        }
+        if body.contains("gyroscope") {
+            for name in ["e1_0", "e1_1", "e1_2", "e2_0", "e2_1", "e2_2", "spin"] {
+                let (a, b) = (s2.column(name).unwrap(), sph.column(name).unwrap());
+                let worst = a.iter().zip(&b).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+                assert!(worst <= 1e-12, "{body}: {name} differs by {worst:e}");
+            }
+        }
+        assert!(sph.column("lat").is_some() && sph.column("lon_dot").is_some() && s2.column("r").is_some());
+    }
+}
+
+/// Scene errors on the spheroid name the field: missing or non-positive
+/// radii, a ratio beyond 1e3, the fields of other manifolds, central
+/// potentials (no closed-form geodesic distance), splittings (no exact free
+/// flow), coordinate methods (no chart equations), coordinates of other
+/// manifolds.
+#[test]
+fn spheroid_scene_errors_name_the_field() {
+    use framedyn::scenes::{example, SceneError};
+    let base = example("spheroid-gyroscope").unwrap();
+    let path_of = |s: &framedyn::scenes::Scene| match s.validate() {
+        Err(SceneError::Invalid { path, .. }) => path,
+        other => panic!("expected an invalid scene, got {other:?}"),
+    };
+    let mut s = base.clone();
+    s.manifold.polar_radius = None;
+    assert_eq!(path_of(&s), "manifold.polar_radius");
+    let mut s = base.clone();
+    s.manifold.equatorial_radius = Some(-1.0);
+    assert!(path_of(&s).starts_with("manifold"));
+    let mut s = base.clone();
+    s.manifold.polar_radius = Some(2e3);
+    assert!(path_of(&s).contains("polar_radius"));
+    let mut s = base.clone();
+    s.manifold.radius = Some(1.0);
+    assert_eq!(path_of(&s), "manifold.radius");
+    let mut s = base.clone();
+    s.potential = framedyn::scenes::PotentialSpec { kind: framedyn::scenes::PotentialKind::Oscillator, kappa: Some(1.0), ..Default::default() };
+    assert_eq!(path_of(&s), "potential.kind");
+    for m in ["strang", "coordinate_rk4"] {
+        let mut s = base.clone();
+        s.method.name = m.into();
+        assert_eq!(path_of(&s), "method.name", "{m}");
+    }
+    let mut s = base.clone();
+    s.initial = s.initial.clone().with_coordinate("r", 0.5);
+    assert_eq!(path_of(&s), "initial.r");
+    // The cosine family on the spheroid is α̂ (z/c)² + β̂ z/c.
+    let sim = base.build().unwrap();
+    let z = sim.value("x2").unwrap();
+    let c = base.manifold.polar_radius.unwrap();
+    let kinetic = 0.5 * (sim.value("v0").unwrap().powi(2) + sim.value("v1").unwrap().powi(2) + sim.value("v2").unwrap().powi(2));
+    let spin_energy = 0.5 * 0.1f64.powi(2) / 0.2;
+    let e = sim.energy();
+    assert!((e - (kinetic + spin_energy - 0.3 * z / c)).abs() < 1e-14, "energy {e}");
+}

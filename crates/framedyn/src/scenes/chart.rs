@@ -235,3 +235,43 @@ impl<const Q: usize> solve::Sink<ChartState<Q>> for Discard {
         Ok(())
     }
 }
+
+/// The chart geometry of a manifold that has none in [`coords`](crate::coords)
+/// (the spheroid): a type without values, so `None::<NoChart>` is the only
+/// use and its methods can never run. Coordinate methods are refused there.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum NoChart {}
+
+impl<const N: usize, const E: usize> crate::coords::ChartGeometry<N, E> for NoChart {
+    const NAME: &'static str = "none";
+    fn coordinate_names(&self) -> [&'static str; N] {
+        match *self {}
+    }
+    fn check_chart(&self, _: &nalgebra::SVector<f64, N>) -> crate::Result<()> {
+        match *self {}
+    }
+    fn metric<D: crate::potential::Scalar>(&self, _: &nalgebra::SVector<D, N>) -> nalgebra::SMatrix<D, N, N> {
+        match *self {}
+    }
+    fn frame<D: crate::potential::Scalar>(&self, _: &nalgebra::SVector<D, N>) -> nalgebra::SMatrix<D, N, N> {
+        match *self {}
+    }
+    fn coframe<D: crate::potential::Scalar>(&self, _: &nalgebra::SVector<D, N>) -> nalgebra::SMatrix<D, N, N> {
+        match *self {}
+    }
+    fn frame_connection<D: crate::potential::Scalar>(&self, _: &nalgebra::SVector<D, N>) -> crate::coords::Connection<D, N> {
+        match *self {}
+    }
+    fn ambient_metric(&self) -> nalgebra::SMatrix<f64, E, E> {
+        match *self {}
+    }
+    fn embed<D: crate::potential::Scalar>(&self, _: &nalgebra::SVector<D, N>) -> nalgebra::SVector<D, E> {
+        match *self {}
+    }
+    fn embed_jacobian<D: crate::potential::Scalar>(&self, _: &nalgebra::SVector<D, N>) -> nalgebra::SMatrix<D, E, N> {
+        match *self {}
+    }
+    fn chart_point(&self, _: &nalgebra::SVector<f64, E>) -> crate::Result<nalgebra::SVector<f64, N>> {
+        match *self {}
+    }
+}

@@ -46,6 +46,9 @@ examples!(
     "t2-incompressible",
     "t2-point",
     "t2-weyl",
+    "spheroid-point-geodesic",
+    "spheroid-gyroscope",
+    "spheroid-affine-elastic",
 );
 
 /// The scene `framedyn run` uses without arguments: a gyroscope on S² whose

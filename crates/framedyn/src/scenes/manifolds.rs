@@ -8,13 +8,14 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::chart::NoChart;
 use super::error::SceneError;
 use super::potential::{build_potential2, build_potential3, Potential2, Potential3, SpacePotentials, SurfacePotentials, UserFunctions, UserPotential};
 use super::scene::Scene;
 use super::simulation::DynEngine;
 use super::spec::BodyKind;
 use crate::coords::{HyperbolicChart, Sphere3Chart, SphereChart, TorusChart};
-use crate::manifold::{Hyperbolic2, Sphere2, Sphere3, Torus2};
+use crate::manifold::{Hyperbolic2, Sphere2, Sphere3, Spheroid, Torus2};
 use crate::potential::{Centre, TorusAngle};
 
 /// The manifold.
@@ -28,11 +29,15 @@ pub enum ManifoldKind {
     T2,
     /// The three-sphere S³(R) ⊂ ℝ⁴.
     S3,
+    /// The spheroid (ellipsoid of revolution) with equatorial radius `a` and
+    /// polar radius `c` ⊂ ℝ³ (oblate `c < a`, prolate `c > a`).
+    #[serde(rename = "spheroid")]
+    Spheroid,
 }
 
 impl ManifoldKind {
     /// Every kind, in the order of listings.
-    pub const ALL: [ManifoldKind; 4] = [ManifoldKind::S2, ManifoldKind::H2, ManifoldKind::T2, ManifoldKind::S3];
+    pub const ALL: [ManifoldKind; 5] = [ManifoldKind::S2, ManifoldKind::H2, ManifoldKind::T2, ManifoldKind::S3, ManifoldKind::Spheroid];
 
     /// The name in scene files (`kind = "S2"`).
     pub fn name(self) -> &'static str {
@@ -41,6 +46,7 @@ impl ManifoldKind {
             ManifoldKind::H2 => "H2",
             ManifoldKind::T2 => "T2",
             ManifoldKind::S3 => "S3",
+            ManifoldKind::Spheroid => "spheroid",
         }
     }
 
@@ -49,6 +55,7 @@ impl ManifoldKind {
         match self {
             ManifoldKind::S2 | ManifoldKind::H2 | ManifoldKind::S3 => &["radius"],
             ManifoldKind::T2 => &["L", "R"],
+            ManifoldKind::Spheroid => &["equatorial_radius", "polar_radius"],
         }
     }
 
@@ -62,6 +69,7 @@ impl ManifoldKind {
             ManifoldKind::H2 => Hyperbolic2::new(1.0).map(|m| m.coordinate_names().to_vec()).unwrap_or_default(),
             ManifoldKind::T2 => Torus2::new(2.0, 1.0).map(|m| m.coordinate_names().to_vec()).unwrap_or_default(),
             ManifoldKind::S3 => Sphere3::new(1.0).map(|m| m.coordinate_names().to_vec()).unwrap_or_default(),
+            ManifoldKind::Spheroid => Spheroid::new(1.0, 1.0).map(|m| m.coordinate_names().to_vec()).unwrap_or_default(),
         }
     }
 }
@@ -70,7 +78,7 @@ impl ManifoldKind {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ManifoldSpec {
-    /// `"S2"`, `"H2"`, `"T2"` or `"S3"`.
+    /// `"S2"`, `"H2"`, `"T2"`, `"S3"` or `"spheroid"`.
     pub kind: ManifoldKind,
     /// `R` of S², H², S³ (default 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -81,12 +89,24 @@ pub struct ManifoldSpec {
     /// `R`, the minor radius of T² (default 1).
     #[serde(default, alias = "R", skip_serializing_if = "Option::is_none")]
     pub minor: Option<f64>,
+    /// The spheroid's equatorial radius `a` (required).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub equatorial_radius: Option<f64>,
+    /// The spheroid's polar radius `c` (required).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub polar_radius: Option<f64>,
 }
 
 impl ManifoldSpec {
     /// Refuses the fields this kind does not take.
     fn only(&self, takes: &[&str]) -> Result<(), SceneError> {
-        let given = [("radius", self.radius), ("L", self.major), ("R", self.minor)];
+        let given = [
+            ("radius", self.radius),
+            ("L", self.major),
+            ("R", self.minor),
+            ("equatorial_radius", self.equatorial_radius),
+            ("polar_radius", self.polar_radius),
+        ];
         for (field, value) in given {
             if let Some(v) = value {
                 if !takes.contains(&field) {
@@ -125,7 +145,7 @@ impl Scene {
                     None => Ok(Centre::sphere2(&m)),
                     Some(c) => Centre::sphere2_at(&m, c),
                 };
-                let ctx = SurfacePotentials { name: "S2", centre: Some(&centre), torus: None, length: m.radius() };
+                let ctx = SurfacePotentials { name: "S2", centre: Some(&centre), torus: None, cosine: None, length: m.radius() };
                 let pot = user2(build_potential2(&self.potential, "potential", &ctx)?, ctx.length)?;
                 let chart = SphereChart::new(m.radius()).map_err(|e| SceneError::from_core("manifold.radius", e))?;
                 self.surface_engine(m, pot, span, Some(chart))
@@ -137,7 +157,7 @@ impl Scene {
                     None => Ok(Centre::hyperbolic2(&m)),
                     Some(c) => Centre::hyperbolic2_at(&m, c),
                 };
-                let ctx = SurfacePotentials { name: "H2", centre: Some(&centre), torus: None, length: m.radius() };
+                let ctx = SurfacePotentials { name: "H2", centre: Some(&centre), torus: None, cosine: None, length: m.radius() };
                 let pot = user2(build_potential2(&self.potential, "potential", &ctx)?, ctx.length)?;
                 let chart = HyperbolicChart::new(m.radius()).map_err(|e| SceneError::from_core("manifold.radius", e))?;
                 self.surface_engine(m, pot, span, Some(chart))
@@ -147,7 +167,7 @@ impl Scene {
                 let (l, r) = (ms.major.unwrap_or(2.0), ms.minor.unwrap_or(1.0));
                 let m = Torus2::new(l, r).map_err(|e| SceneError::from_core("manifold", e))?;
                 let angle = TorusAngle::new(l, r).map_err(|e| SceneError::from_core("manifold", e))?;
-                let ctx = SurfacePotentials { name: "T2", centre: None, torus: Some(angle), length: r };
+                let ctx = SurfacePotentials { name: "T2", centre: None, torus: Some(angle), cosine: None, length: r };
                 let pot = user2(build_potential2(&self.potential, "potential", &ctx)?, ctx.length)?;
                 let chart = TorusChart::new(l, r).map_err(|e| SceneError::from_core("manifold", e))?;
                 self.surface_engine(m, pot, span, Some(chart))
@@ -170,6 +190,18 @@ impl Scene {
                 };
                 let chart = Sphere3Chart::new(m.radius()).map_err(|e| SceneError::from_core("manifold.radius", e))?;
                 self.space_engine(m, pot, span, Some(chart))
+            }
+            ManifoldKind::Spheroid => {
+                ms.only(ms.kind.fields())?;
+                let req = |v: Option<f64>, f: &str| v.ok_or_else(|| SceneError::invalid(format!("manifold.{f}"), "(missing)", "required for kind = \"spheroid\""));
+                let (a, c) = (req(ms.equatorial_radius, "equatorial_radius")?, req(ms.polar_radius, "polar_radius")?);
+                let m = Spheroid::new(a, c).map_err(|e| SceneError::from_core("manifold", e))?;
+                // The cosine family in the height along the axis, z/c: the
+                // axial component of the pole of the sphere of radius c.
+                let axis = Centre::sphere2(&Sphere2::new(c).map_err(|e| SceneError::from_core("manifold.polar_radius", e))?);
+                let ctx = SurfacePotentials { name: "spheroid", centre: None, torus: None, cosine: Some(axis), length: a.min(c) };
+                let pot = user2(build_potential2(&self.potential, "potential", &ctx)?, ctx.length)?;
+                self.surface_engine(m, pot, span, None::<NoChart>)
             }
         }
     }

@@ -112,6 +112,7 @@
 //! | `frame` | `e1_0 … eN_{E−1}`: body frame vectors, embedding components (not for points) | 1 |
 //! | `coordinates` | the paper's chart coordinates `r, phi` (S², H²), `theta, phi` (T²), `r1, r2, r3` (S³) and their rates `*_dot` (NaN where the chart is singular, e.g. at a pole); gyroscope on a surface: `alpha` (angle of `e₁` from the paper's frame `E_r`); affine bodies: `stretch_1 …` (singular values of `ρ`) | L or rad; L/T or rad/T; rad; 1 |
 //! | `momenta` | gyroscope `spin` (2-D) or `spin_1..3` (S³, body components); affine bodies `k_AB` (hypermomentum `ρJρ̇ᵀ`) | M L²/T |
+//! | `frame_rate` | affine bodies: `de1_0 … deN_{E−1}`, the covariant rate `De_a/Dt = q ρ̇` of the body frame vectors (embedding components, the layout of `frame`) | 1/T |
 //! | `energy` | `energy`: `T + V` | M L²/T² |
 //! | `momentum_map` | `p_phi` (rotations about the ambient z axis; S², H², T²) or `J_ab` (the rotation in the `(a, b)` plane of ℝ⁴; S³) | M L²/T |
 //! | `defect` | `defect`: distance of the state from its constraints | 1 |

@@ -17,14 +17,14 @@ use crate::potential::Potential;
 
 /// The selected column groups.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct Sel([bool; 8]);
+pub(crate) struct Sel([bool; 9]);
 
 impl Sel {
     /// Every quantity.
-    pub(crate) const ALL: Sel = Sel([true; 8]);
+    pub(crate) const ALL: Sel = Sel([true; 9]);
 
     pub(crate) fn new(qs: &[Quantity]) -> Self {
-        let mut s = [false; 8];
+        let mut s = [false; 9];
         for q in qs {
             s[Quantity::ALL.iter().position(|a| a == q).unwrap_or(0)] = true;
         }
@@ -66,11 +66,12 @@ impl<'a> Row<'a> {
     }
 }
 
-/// Units of a chart coordinate and of its rate.
-fn coord_units(name: &str) -> (&'static str, &'static str) {
-    match name {
-        "phi" | "theta" => ("rad", "rad/T"),
-        _ => ("L", "L/T"),
+/// The unit of the rate of a chart coordinate of unit `unit`.
+fn rate_unit(unit: &'static str) -> &'static str {
+    match unit {
+        "rad" => "rad/T",
+        "L" => "L/T",
+        _ => "1/T",
     }
 }
 
@@ -143,6 +144,7 @@ fn observe_common<B: FrameBundle<N, E>, const N: usize, const E: usize>(
     if sel.has(Quantity::Coordinates) {
         row.group(Quantity::Coordinates);
         let names = bundle.coordinate_names();
+        let units = bundle.coordinate_units();
         let (c, cd) = match bundle.chart(x) {
             Ok(c) => {
                 let cd = bundle.chart_tangent(x, v).unwrap_or(SVector::from_element(f64::NAN));
@@ -151,10 +153,10 @@ fn observe_common<B: FrameBundle<N, E>, const N: usize, const E: usize>(
             Err(_) => (SVector::from_element(f64::NAN), SVector::from_element(f64::NAN)),
         };
         for i in 0..N {
-            row.put(format_args!("{}", names[i]), coord_units(names[i]).0, c[i]);
+            row.put(format_args!("{}", names[i]), units[i], c[i]);
         }
         for i in 0..N {
-            row.put(format_args!("{}_dot", names[i]), coord_units(names[i]).1, cd[i]);
+            row.put(format_args!("{}_dot", names[i]), rate_unit(units[i]), cd[i]);
         }
         extra_coords(row);
     }
@@ -263,6 +265,15 @@ where
             for a in 0..N {
                 for b in 0..N {
                     row.put(format_args!("k_{}{}", a + 1, b + 1), "M L^2/T", k[(a, b)]);
+                }
+            }
+        }
+        if sel.has(Quantity::FrameRate) {
+            row.group(Quantity::FrameRate);
+            let de = self.frame_rate(y);
+            for a in 0..N {
+                for i in 0..E {
+                    row.put(format_args!("de{}_{i}", a + 1), "1/T", de[(i, a)]);
                 }
             }
         }

@@ -427,16 +427,22 @@ pub(crate) struct SurfacePotentials<'a> {
     /// T²: the torus angle `ϑ`, the variable of `separable` (`V_r(ϑ)`) and
     /// `cosine` (`α̂ cos²ϑ + β̂ cos ϑ`).
     pub torus: Option<TorusAngle>,
+    /// Where there are no central potentials and no torus angle (the
+    /// spheroid): the axis of the `cosine` family, `V = α̂ Z² + β̂ Z` with
+    /// `Z = z/ℓ` the height along the symmetry axis in units of `ℓ` (its
+    /// `axial` component over its radius).
+    pub cosine: Option<Centre<3>>,
     /// The length scale of the manifold (difference steps of user potentials).
     pub length: f64,
 }
 
 /// The allowed potential kinds on a surface, for messages.
 fn surface_kinds(s: &SurfacePotentials<'_>) -> &'static str {
-    match (&s.centre, &s.torus) {
-        (Some(_), _) => "none, oscillator, kepler, cosine, central, elastic, separable, sum",
-        (None, Some(_)) => "none, cosine, elastic, separable (V_r of the torus angle), sum",
-        (None, None) => "none, elastic, sum",
+    match (&s.centre, &s.torus, &s.cosine) {
+        (Some(_), _, _) => "none, oscillator, kepler, cosine, central, elastic, separable, sum",
+        (None, Some(_), _) => "none, cosine, elastic, separable (V_r of the torus angle), sum",
+        (None, None, Some(_)) => "none, cosine (of the height along the axis), elastic, sum",
+        (None, None, None) => "none, elastic, sum",
     }
 }
 
@@ -458,8 +464,8 @@ pub(crate) fn build_potential2(p: &PotentialSpec, path: &str, s: &SurfacePotenti
         PotentialKind::None => Potential2::Free,
         PotentialKind::Oscillator => Potential2::Oscillator(Oscillator::new(req(p.kappa, path, "kappa")?, centre()?).map_err(|e| core("kappa", e))?),
         PotentialKind::Kepler => Potential2::Kepler(Kepler::new(req(p.alpha, path, "alpha")?, centre()?).map_err(|e| core("alpha", e))?),
-        PotentialKind::Cosine => match (&s.centre, &s.torus) {
-            (None, Some(angle)) => {
+        PotentialKind::Cosine => match (&s.centre, &s.torus, &s.cosine) {
+            (None, Some(angle), _) => {
                 if p.centre.is_some() {
                     return Err(SceneError::invalid(format!("{path}.centre"), "(given)", format!("on {} the cosine family is a function of the torus angle; no centre", s.name)));
                 }
@@ -472,6 +478,12 @@ pub(crate) fn build_potential2(p: &PotentialSpec, path: &str, s: &SurfacePotenti
                 // α̂ cos²ϑ + β̂ cos ϑ = α̂/2 + (α̂/2) cos 2ϑ + β̂ cos ϑ.
                 let v_r = Series { poly: vec![0.5 * a], cos: vec![[0.5 * a, 2.0], [b, 1.0]], sec_2x: 0.0 };
                 Potential2::Separable(Separable::torus(SeparableSeries { v_r: v_r.per_radius(1.0), ..SeparableSeries::default() }, *angle))
+            }
+            (None, None, Some(axis)) => {
+                if p.centre.is_some() {
+                    return Err(SceneError::invalid(format!("{path}.centre"), "(given)", format!("on {} the cosine family is a function of the height along the axis; no centre", s.name)));
+                }
+                Potential2::Cosine(CosineFamily::new(p.alpha_hat.unwrap_or(0.0), p.beta_hat.unwrap_or(0.0), *axis).map_err(|e| core("alpha_hat", e))?)
             }
             _ => Potential2::Cosine(CosineFamily::new(p.alpha_hat.unwrap_or(0.0), p.beta_hat.unwrap_or(0.0), centre()?).map_err(|e| core("alpha_hat", e))?),
         },

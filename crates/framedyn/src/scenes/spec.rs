@@ -318,7 +318,8 @@ impl<'de> Deserialize<'de> for InitialSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MethodSpec {
-    /// The method's name (see [`METHOD_NAMES`](super::METHOD_NAMES)); default `"rk4"`.
+    /// The method's name, one of the registry's
+    /// ([`METHODS`](crate::method::METHODS)); default RKMK4.
     #[serde(default = "default_method")]
     pub name: String,
     /// Fixed step size (upper bound; the span is split into equal steps).
@@ -344,7 +345,7 @@ pub struct MethodSpec {
 }
 
 fn default_method() -> String {
-    "rk4".into()
+    crate::method::registry::RK4.name.into()
 }
 
 impl Default for MethodSpec {
@@ -378,6 +379,9 @@ pub enum Quantity {
     Coordinates,
     /// Momenta of the internal motion (spin, hypermomentum).
     Momenta,
+    /// Affine bodies: the covariant rate `De/Dt` of the body frame vectors
+    /// (embedding components, `de1_0 …`).
+    FrameRate,
     /// Total energy.
     Energy,
     /// Momentum maps (p_φ; on S³ the six so(4) charges).
@@ -395,6 +399,7 @@ impl Quantity {
             Quantity::Frame => "frame",
             Quantity::Coordinates => "coordinates",
             Quantity::Momenta => "momenta",
+            Quantity::FrameRate => "frame_rate",
             Quantity::Energy => "energy",
             Quantity::MomentumMap => "momentum_map",
             Quantity::Defect => "defect",
@@ -402,12 +407,13 @@ impl Quantity {
     }
 
     /// All quantities, in column order.
-    pub const ALL: [Quantity; 8] = [
+    pub const ALL: [Quantity; 9] = [
         Quantity::Position,
         Quantity::Velocity,
         Quantity::Frame,
         Quantity::Coordinates,
         Quantity::Momenta,
+        Quantity::FrameRate,
         Quantity::Energy,
         Quantity::MomentumMap,
         Quantity::Defect,
