@@ -55,11 +55,33 @@ __all__ = [
     "OutputError",
     "InternalError",
     "INITIAL_FIELDS",
+    "methods",
+    "manifolds",
     "__version__",
 ]
 
 UserPotential = Callable[[np.ndarray, np.ndarray], float]
 UserGradient = Callable[[np.ndarray, np.ndarray], Tuple[Any, Any]]
+
+
+def methods() -> List[Dict[str, Any]]:
+    """The integration methods, from the core's registry (the same list as
+    ``framedyn methods`` and the guide's table): one dict per method with
+    ``name`` (the scene's ``method.name``), ``display``, ``family``
+    (``"RKMK"``, ``"splitting"``, ``"implicit"``, ``"coordinate"``),
+    ``order``, ``embedded_order`` (``None`` without an embedded pair),
+    ``adaptive`` (accepts ``rtol``/``atol``), ``needs`` (``"nothing"``,
+    ``"exact_free_flow"``, ``"chart"``) with ``needs_text``, ``params`` and
+    ``summary``."""
+    return [dict(m) for m in _framedyn.methods()]
+
+
+def manifolds() -> Dict[str, Dict[str, List[str]]]:
+    """The manifolds a scene can name, from the core: ``{kind: {"fields":
+    [...], "coordinates": [...]}}`` — the ``[manifold]`` fields of the kind
+    and its chart coordinates (the ``initial`` keywords, each also with its
+    rate ``*_dot``)."""
+    return {k: {"fields": list(v["fields"]), "coordinates": list(v["coordinates"])} for k, v in _framedyn.manifolds().items()}
 
 
 def _check_scene(scene: Any, what: str = "scene") -> Scene:

@@ -9,7 +9,19 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union, 
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["Scene", "Stepper", "__version__", "_raise_for_test", "cli_main", "run", "run_batch"]
+__all__ = [
+    "Scene",
+    "Stepper",
+    "__version__",
+    "_raise_for_test",
+    "cli_main",
+    "initial_fields",
+    "manifolds",
+    "methods",
+    "run",
+    "run_batch",
+    "write_records",
+]
 __version__: str
 
 _UserPotential = Callable[[npt.NDArray[np.float64], npt.NDArray[np.float64]], float]
@@ -76,3 +88,9 @@ def run_batch(
 def _raise_for_test(kind: str, message: str) -> None: ...
 
 def cli_main(argv: List[str]) -> int: ...
+def methods() -> List[Dict[str, Any]]: ...
+def manifolds() -> Dict[str, Dict[str, List[str]]]: ...
+def initial_fields() -> List[str]: ...
+def write_records(
+    path: str, format: str, columns: List[str], units: List[str], data: npt.NDArray[np.float64]
+) -> None: ...

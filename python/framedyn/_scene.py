@@ -23,17 +23,21 @@ from ._errors import InvalidInputError
 
 __all__ = ["Scene", "INITIAL_FIELDS"]
 
-#: The names of the initial-state fields, as in the paper: chart coordinates
-#: ``r, phi`` (S², H²), ``theta, phi`` (T²), ``r1, r2, r3`` (S³) with their
-#: rates ``*_dot``; or the embedding ``position``, ``velocity``, ``frame``;
-#: and the body's internal state ``alpha``, ``orientation``, ``spin``,
-#: ``omega``, ``rho``, ``rho_dot``.
-INITIAL_FIELDS: Tuple[str, ...] = (
-    "r", "phi", "theta", "r1", "r2", "r3",
-    "r_dot", "phi_dot", "theta_dot", "r1_dot", "r2_dot", "r3_dot",
-    "position", "velocity", "frame",
-    "alpha", "orientation", "spin", "omega", "rho", "rho_dot",
-)
+#: The names of the initial-state fields, read from the core: every
+#: manifold's chart coordinates as it names them (``r, phi`` on S², H²;
+#: ``theta, phi`` on T²; ``r1, r2, r3`` on S³; …) with their rates ``*_dot``,
+#: then the fixed fields ``position``, ``velocity``, ``frame``, ``alpha``,
+#: ``orientation``, ``spin``, ``omega``, ``rho``, ``rho_dot``.
+def _initial_fields() -> Tuple[str, ...]:
+    coords: List[str] = []
+    for spec in _framedyn.manifolds().values():
+        for c in spec["coordinates"]:
+            if c not in coords:
+                coords.append(c)
+    return tuple(coords) + tuple(f"{c}_dot" for c in coords) + tuple(_framedyn.initial_fields())
+
+
+INITIAL_FIELDS: Tuple[str, ...] = _initial_fields()
 
 # Expected array ranks of the array-valued fields (None: a number or a vector).
 _ARRAY_RANK = {
@@ -263,7 +267,7 @@ class Scene:
 
     def columns(self) -> List[Tuple[str, str]]:
         """``(name, unit)`` of each output column of a run."""
-        return list(self._native.columns())
+        return [(c[0], c[1]) for c in self._native.columns()]
 
     def replace(self, **changes: Any) -> "Scene":
         """A copy with fields changed; keys are dotted paths with ``.``

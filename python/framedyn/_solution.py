@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import os
-import re
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+from . import _framedyn
 from ._errors import InvalidInputError, OutputError
 
 __all__ = ["Solution", "BatchSolution", "EventRecords"]
@@ -53,13 +53,6 @@ class EventRecords:
         return f"EventRecords({len(self)} events)"
 
 
-_POS = re.compile(r"^x(\d+)$")
-_VEL = re.compile(r"^v(\d+)$")
-_FRAME = re.compile(r"^e(\d+)_(\d+)$")
-_MOMENTUM_MAP = re.compile(r"^(p_phi|J_\d\d)$")
-_MOMENTA = re.compile(r"^(spin(_\d)?|k_\d\d)$")
-
-
 class Solution:
     """The records of one run.
 
@@ -70,7 +63,10 @@ class Solution:
     - ``position``, ``velocity``: embedding coordinates, ``(n, E)`` (E = 3;
       4 on S³; H² in Minkowski space ℝ^{2,1});
     - ``frame``: the body frame vectors ``e_A`` in embedding components,
-      ``(n, N, E)`` (N = 2 on surfaces, 3 on S³; absent for points);
+      ``(n, N, E)`` (N = 2 on surfaces, 3 on S³; absent for points):
+      ``frame[:, a]`` is the vector ``e_{a+1}`` (the vectors as rows; Rust's
+      ``body_frame`` returns them as the columns of an ``E × N`` matrix);
+    - ``frame_rate``: affine bodies, the covariant rates ``De_A/Dt``, same shape;
     - ``coordinates``: the paper's chart coordinates and rates by name
       (``r, phi, r_dot, phi_dot`` on S²/H², ``theta, phi, …`` on T²,
       ``r1, r2, r3, …`` on S³; NaN where the chart is singular), plus
@@ -93,12 +89,25 @@ class Solution:
         "_index": "Column name → column index.",
         "error": "For a failed member of a batch run with ``on_error=\"keep\"``: the exception, else None.",
         "events": "The located events (:class:`EventRecords`).",
+        "groups": "The quantity group of each column (``'position'``, ``'frame'``, …; ``None`` for ``t``), as the core reports it.",
+        "frame_shape": "``(N, E)``: body frame vectors and embedding dimension (``(0, E)`` for points).",
     }
 
-    def __init__(self, data: np.ndarray, columns: Sequence[str], units: Sequence[str], stats: Mapping[str, Any], events: Optional[EventRecords] = None) -> None:
+    def __init__(
+        self,
+        data: np.ndarray,
+        columns: Sequence[str],
+        units: Sequence[str],
+        stats: Mapping[str, Any],
+        events: Optional[EventRecords] = None,
+        groups: Optional[Sequence[Optional[str]]] = None,
+        frame_shape: Tuple[int, int] = (0, 0),
+    ) -> None:
         self.data: np.ndarray = data
         self.columns: List[str] = list(columns)
         self.units: List[str] = list(units)
+        self.groups: List[Optional[str]] = list(groups) if groups is not None else [None] * len(self.columns)
+        self.frame_shape: Tuple[int, int] = (int(frame_shape[0]), int(frame_shape[1]))
         self.stats: Dict[str, Any] = dict(stats)
         self._index = {c: i for i, c in enumerate(self.columns)}
         #: For a failed member of a batch run with ``on_error="keep"``: the exception.
@@ -108,7 +117,15 @@ class Solution:
 
     @classmethod
     def _from_raw(cls, raw: Mapping[str, Any]) -> "Solution":
-        return cls(raw["data"], raw["columns"], raw["units"], raw["summary"], EventRecords(raw.get("events"), len(raw["columns"])))
+        return cls(
+            raw["data"],
+            raw["columns"],
+            raw["units"],
+            raw["summary"],
+            EventRecords(raw.get("events"), len(raw["columns"])),
+            raw.get("groups"),
+            tuple(raw.get("frame_shape", (0, 0))),
+        )
 
     # -- columns ----------------------------------------------------------------
 
@@ -128,13 +145,8 @@ class Solution:
         """The unit of column ``name`` (in L, T, M)."""
         return self.units[self._index[name]]
 
-    def _group(self, pattern: "re.Pattern[str]") -> List[Tuple[int, Tuple[int, ...]]]:
-        out = []
-        for i, c in enumerate(self.columns):
-            m = pattern.match(c)
-            if m:
-                out.append((i, tuple(int(g) for g in m.groups() if g is not None and g.isdigit())))
-        return out
+    def _in(self, group: str) -> List[int]:
+        return [i for i, g in enumerate(self.groups) if g == group]
 
     def _cols(self, idx: List[int]) -> np.ndarray:
         if not idx:
@@ -151,42 +163,47 @@ class Solution:
     @property
     def position(self) -> np.ndarray:
         """Embedding positions, shape ``(n, E)``."""
-        return self._cols([i for i, _ in self._group(_POS)])
+        return self._cols(self._in("position"))
 
     @property
     def velocity(self) -> np.ndarray:
         """Embedding velocities, shape ``(n, E)``."""
-        return self._cols([i for i, _ in self._group(_VEL)])
+        return self._cols(self._in("velocity"))
 
     @property
     def frame(self) -> np.ndarray:
         """Body frame vectors ``e_A`` (embedding components), shape ``(n, N, E)``."""
-        g = self._group(_FRAME)
-        if not g:
+        idx = self._in("frame")
+        if not idx:
             return np.empty((len(self), 0, 0))
-        n_vec = max(k[0] for _, k in g)
-        n_emb = max(k[1] for _, k in g) + 1
-        return self._cols([i for i, _ in g]).reshape(len(self), n_vec, n_emb)
+        n_vec, n_emb = self.frame_shape
+        return self._cols(idx).reshape(len(self), n_vec, n_emb)
+
+    @property
+    def frame_rate(self) -> np.ndarray:
+        """Affine bodies: the covariant rates ``De_A/Dt`` of the body frame
+        vectors (embedding components), shape ``(n, N, E)`` like
+        :attr:`frame`; empty for other bodies."""
+        idx = self._in("frame_rate")
+        if not idx:
+            return np.empty((len(self), 0, 0))
+        n_vec, n_emb = self.frame_shape
+        return self._cols(idx).reshape(len(self), n_vec, n_emb)
 
     @property
     def coordinates(self) -> Dict[str, np.ndarray]:
         """The paper's coordinates and rates (and ``alpha`` / ``stretch_*``) by name."""
-        known = (_POS, _VEL, _FRAME, _MOMENTUM_MAP, _MOMENTA)
-        return {
-            c: self.data[:, i]
-            for i, c in enumerate(self.columns)
-            if c not in ("t", "energy", "defect") and not any(p.match(c) for p in known)
-        }
+        return {self.columns[i]: self.data[:, i] for i in self._in("coordinates")}
 
     @property
     def momenta(self) -> Dict[str, np.ndarray]:
         """Momenta of the internal motion (spin, hypermomentum) by name."""
-        return {self.columns[i]: self.data[:, i] for i, _ in self._group(_MOMENTA)}
+        return {self.columns[i]: self.data[:, i] for i in self._in("momenta")}
 
     @property
     def momentum_maps(self) -> Dict[str, np.ndarray]:
         """Momentum maps (``p_phi``; ``J_ab`` on S³) by name."""
-        return {self.columns[i]: self.data[:, i] for i, _ in self._group(_MOMENTUM_MAP)}
+        return {self.columns[i]: self.data[:, i] for i in self._in("momentum_map")}
 
     @property
     def energy(self) -> np.ndarray:
@@ -207,32 +224,34 @@ class Solution:
         return f"Solution({len(self)} records, {len(self.columns)} columns, stop={self.stats.get('stop')!r})"
 
     def __reduce__(self) -> Any:
-        return (_rebuild, (self.data, self.columns, self.units, self.stats, self.error, self.events))
+        return (_rebuild, (self.data, self.columns, self.units, self.stats, self.error, self.events, self.groups, self.frame_shape))
 
     def save(self, path: Union[str, "os.PathLike[str]"], format: Optional[str] = None) -> None:
-        """Writes the records like ``framedyn run``: CSV with a header line
-        (``format="csv"``) or a numpy ``.npz`` archive with ``data``,
-        ``columns``, ``units`` (``format="npz"``); by default from the
-        extension of ``path`` (``.npz``, else CSV)."""
+        """Writes the records exactly as ``framedyn run`` does (the same
+        writer, in Rust): CSV with a header line (``format="csv"``) or a
+        numpy ``.npz`` archive with ``data``, ``columns``, ``units``
+        (``format="npz"``); by default from the extension of ``path``
+        (``.npz``, else CSV). Atomic: a temporary file renamed onto ``path``
+        when complete, so a failure leaves any previous file untouched."""
         p = os.fspath(path)
         fmt = format if format is not None else ("npz" if p.lower().endswith(".npz") else "csv")
         if fmt not in ("csv", "npz"):
             raise InvalidInputError(f"invalid `format` = {format!r}: allowed: 'csv', 'npz'")
-        try:
-            if fmt == "npz":
-                with open(p, "wb") as f:
-                    np.savez(f, data=self.data, columns=np.array(self.columns), units=np.array(self.units))
-            else:
-                with open(p, "w", encoding="utf-8") as f:
-                    f.write(",".join(self.columns) + "\n")
-                    for row in self.data:
-                        f.write(",".join(repr(float(v)) for v in row) + "\n")
-        except OSError as e:
-            raise OutputError(f"cannot write {p}: {e}") from e
+        data = np.ascontiguousarray(self.data, dtype=np.float64).reshape(len(self), len(self.columns))
+        _framedyn.write_records(p, fmt, self.columns, self.units, data)
 
 
-def _rebuild(data: np.ndarray, columns: List[str], units: List[str], stats: Dict[str, Any], error: Optional[BaseException], events: Optional[EventRecords] = None) -> Solution:
-    s = Solution(data, columns, units, stats, events)
+def _rebuild(
+    data: np.ndarray,
+    columns: List[str],
+    units: List[str],
+    stats: Dict[str, Any],
+    error: Optional[BaseException],
+    events: Optional[EventRecords] = None,
+    groups: Optional[List[Optional[str]]] = None,
+    frame_shape: Tuple[int, int] = (0, 0),
+) -> Solution:
+    s = Solution(data, columns, units, stats, events, groups, frame_shape)
     s.error = error
     return s
 

@@ -39,7 +39,7 @@ def test_step_and_reset():
     assert st.t == 0.0 and st.state() == s0
     st.step(-0.01)  # backwards
     assert st.t == pytest.approx(-0.01)
-    assert st.method == "RK4"
+    assert st.method == {m["name"]: m for m in fd.methods()}["rk4"]["display"]
     assert "Stepper" in repr(st)
 
 
