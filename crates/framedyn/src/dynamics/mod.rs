@@ -96,7 +96,7 @@ pub fn internal_gradient<const N: usize, const E: usize>(
 }
 
 pub mod affine;
-pub mod constrained;
+pub use affine::constrained;
 pub mod gyroscope;
 pub mod gyroscope2;
 pub mod gyroscope3;

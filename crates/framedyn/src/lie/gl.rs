@@ -12,10 +12,6 @@ use super::matrix::{amax, commutator, det, dexp_inv_matrix, dexp_matrix, expm, l
 use super::LieGroup;
 use crate::{Error, Result};
 
-// The matrix functions under the path `lie::gl::matfun`, which
-// `dynamics::affine` and `dynamics::constrained` import.
-pub(crate) use super::matrix as matfun;
-
 /// The identity component GL⁺(n) of the general linear group: real `n×n`
 /// matrices with `det > 0` — the fibre of the affinely-rigid body (the
 /// configuration `φ` of the body frame `e = E φ`, paper §4).

@@ -80,14 +80,14 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use super::affine::{
+use super::{
     conformality_defect, inverse, linear_collapse_time, trace_of_product, Additive, AffineBodyModel, BodyState,
     Inertia, InternalConstraint, Kinematics, MatrixAlgebra, STATE_TOLERANCE,
 };
 use crate::body::{Dilatation, Incompressible, Weyl};
 use crate::bundle::FrameBundle;
 use crate::error::finite;
-use crate::lie::gl::matfun::{det, traceless_part};
+use crate::lie::matrix::{det, traceless_part};
 use crate::lie::{Co, Rn, Sl, SoN};
 use crate::potential::Potential;
 use crate::{Error, Result};
