@@ -41,6 +41,7 @@ use criterion::Criterion;
 use framedyn::dynamics::System;
 use framedyn::lie::{LieGroup, ProductAlgebra};
 use framedyn::method::{GroupNumerics, Method, Rkmk, Splitting, StepRequest};
+use framedyn::testing::*;
 use nalgebra::{Matrix3, Vector1, Vector2, Vector3};
 
 /// Step size of the benched steps.
@@ -311,8 +312,8 @@ fn benches(c: &mut Criterion) {
     });
     c.bench_function("s2_gyroscope/hand_rhs", |b| b.iter(|| black_box(hs.f(black_box(&hy)))));
     bench_system(c, "s2_gyroscope", &r.system, r.y0);
-    let (p, y) = s2_point();
-    bench_system(c, "s2_point", &p, y);
+    let r = s2_point();
+    bench_system(c, "s2_point", &r.system, r.y0);
     let r = h2_gyro();
     bench_system(c, "h2_gyroscope", &r.system, r.y0);
     let r = h2_lorentz();
@@ -476,8 +477,8 @@ fn ratio_table() {
         let (o, b, q) = ratio_row_against(hand_strang_row, step);
         rows.push(("s2_gyroscope".into(), "strang_pole_vs_hand_strang".into(), o, b, q));
     }
-    let (p, y) = s2_point();
-    system!("s2_point", p, y);
+    let r = s2_point();
+    system!("s2_point", r.system.clone(), r.y0);
     let r = h2_gyro();
     system!("h2_gyroscope", r.system.clone(), r.y0);
     let r = h2_lorentz();

@@ -31,7 +31,6 @@ use std::io::Write;
 
 use common::*;
 use framedyn::body::{Affine, Gyroscope};
-use framedyn::coords::{ambient_state, Gyroscope2, PlaneRotation, SphereChart};
 use framedyn::dynamics::affine::AffineModel;
 use framedyn::dynamics::point::bundle_element_at;
 use framedyn::dynamics::{Gyroscope2Model, System};
@@ -41,6 +40,7 @@ use framedyn::method::baseline::{ChartSystem, CoordinateRk};
 use framedyn::method::{GroupNumerics, ImplicitMidpoint, Method, Rkmk, Splitting};
 use framedyn::potential::{Centre, CosineFamily, Elastic, Sum};
 use framedyn::solve::{solve, Options, Problem, Save, SolveError, Stepper};
+use framedyn::testing::*;
 use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
 
 /// Command-line options.
@@ -172,44 +172,24 @@ macro_rules! each_splitting {
 // The S² gyroscope in the paper's coordinates (the baselines' system)
 // ---------------------------------------------------------------------------
 
-/// The coordinate Lagrangian (a52)/(a91) of the S² gyroscope with
-/// `V = a cos(r/R)`.
-type S2Coords = Gyroscope2<SphereChart, CosineFamily<3>>;
-/// Its Euler–Lagrange equations as a first-order system on `(q, q̇)`.
-type S2Chart = ChartSystem<S2Coords, 3>;
-
-fn s2_coords(a: f64, radius: f64) -> S2Coords {
-    let s2 = Sphere2::new(radius).unwrap();
-    let pot = CosineFamily::new(0.0, a, Centre::sphere2(&s2)).unwrap();
-    Gyroscope2::gyroscope(SphereChart::new(radius).unwrap(), PlaneRotation, &Gyroscope::<2>::isotropic(S2_MASS, S2_MOMENT).unwrap(), pot)
-}
+/// The coordinate Lagrangian (a52)/(a91) of the S² gyroscope
+/// (`framedyn::testing::S2GyroCoords`) as a first-order system on `(q, q̇)`.
+type S2Chart = ChartSystem<S2GyroCoords, 3>;
 
 /// The S² gyroscope from a chart state `(r, φ, ψ; ṙ, φ̇, ω)` (ω the angular
 /// velocity (a91), so `ψ̇ = ω − cos(r/R) φ̇`), in both formulations starting
 /// from the same physical state: the group state is built from the chart
-/// state's ambient data.
+/// state's ambient data ([`s2_gyro_from_chart`]).
 fn s2_both(a: f64, radius: f64, q0: [f64; 3], v0: [f64; 3], t_end: f64, name: &'static str) -> (Reference<S2Gyro>, S2Chart, <S2Chart as System>::State) {
-    let lag = s2_coords(a, radius);
-    let q = Vector3::new(q0[0], q0[1], q0[2]);
-    let v = Vector3::new(v0[0], v0[1], v0[2] - (q0[0] / radius).cos() * v0[1]);
-    let amb = ambient_state(&lag, &q, &v).unwrap();
-    let spin = lag.comoving(&q, &v).unwrap().spin[(0, 1)];
-    let mut r = s2_gyro_with(a, radius, q0, v0, t_end, name);
-    r.y0 = r.system.state(&amb.position, &amb.velocity, &amb.frame, spin).unwrap();
+    let r = s2_gyro_from_chart(a, radius, q0, v0, t_end, name).expect("valid S² gyroscope parameters");
+    let lag = s2_gyro_coords(a, radius).expect("valid S² gyroscope parameters");
+    let (q, v) = s2_chart_state(radius, q0, v0);
     (r, ChartSystem::new(lag), S2Chart::state(&q, &v))
 }
 
 /// Ambient observable of a chart state (same layout as the group form's).
 fn chart_obs(sys: &S2Chart, y: &<S2Chart as System>::State) -> Option<Vec<f64>> {
-    let (q, v) = (&y.0 .0, &y.1 .0);
-    let lag = sys.lagrangian();
-    let amb = ambient_state(lag, q, v).ok()?;
-    let s = lag.comoving(q, v).ok()?.spin[(0, 1)];
-    let mut o: Vec<f64> = amb.position.iter().copied().collect();
-    o.extend(amb.velocity.iter());
-    o.extend(amb.frame.iter());
-    o.push(s);
-    Some(o)
+    s2_chart_observable(sys.lagrangian(), &y.0 .0, &y.1 .0).ok()
 }
 
 // ---------------------------------------------------------------------------
@@ -222,7 +202,7 @@ fn stable_steps(out: &str, quick: bool) -> std::io::Result<()> {
     let t = 10.0;
     let kappas: &[f64] = if quick { &[1.0, 100.0] } else { &[1.0, 10.0, 100.0, 1e3, 1e4] };
     for &k in kappas {
-        let r = s2_affine_kappa(k);
+        let r = s2_affine_kappa(k).expect("valid stiffness");
         each_general!(name, m, { stable_row(&mut f, "kappa", k, name, largest_stable(&r.system, &r.y0, t, &m))?; });
         eprintln!("  steps: kappa {k} done");
     }
@@ -251,17 +231,14 @@ fn stable_steps(out: &str, quick: bool) -> std::io::Result<()> {
 // 2. Through the pole of S²
 // ---------------------------------------------------------------------------
 
-/// The pole trajectory of `s2_pole` (benches/common): `V = −0.5 cos(r/R)`,
-/// chart start `(1e-6, 0.3, 0.4)`, `(ṙ, φ̇, ω) = (1, 0, 1)`, T = 20.
-const POLE_Q0: [f64; 3] = [1e-6, 0.3, 0.4];
-const POLE_V0: [f64; 3] = [1.0, 0.0, 1.0];
-const POLE_A: f64 = -0.5;
 /// Step budget of the adaptive coordinate DOPRI5 at the pole (without it,
 /// tol 1e-12 took 3.8e6 steps and 100 s CPU before its step size collapsed).
 const COORD_MAX_STEPS: usize = 200_000;
 
 fn pole(out: &str, quick: bool) -> std::io::Result<()> {
-    let (r, cs, cy) = s2_both(POLE_A, 1.0, POLE_Q0, POLE_V0, 20.0, "pole");
+    // The pole trajectory of `framedyn::testing::s2_pole` (the constants
+    // `S2_POLE_*`), built from its chart state for the coordinate baselines.
+    let (r, cs, cy) = s2_both(S2_POLE_A, S2_RADIUS, S2_POLE_Q0, S2_POLE_V0, S2_POLE_T_END, "pole");
     let mut st = Stepper::new(r.system.clone(), Rkmk::butcher6(), 0.0, r.y0).expect("stepper");
     st.advance(r.t_end, 80_000).expect("reference");
     let reference = (r.observable)(&r.system, st.state());
@@ -272,7 +249,7 @@ fn pole(out: &str, quick: bool) -> std::io::Result<()> {
 
     let mut p = std::fs::File::create(format!("{out}/stability_pole_problem.csv"))?;
     writeln!(p, "key,value")?;
-    for (k, x) in [("m", S2_MASS), ("R", 1.0), ("I", S2_MOMENT), ("a", POLE_A), ("T", r.t_end), ("ref_error", ref_err)] {
+    for (k, x) in [("m", S2_MASS), ("R", S2_RADIUS), ("I", S2_MOMENT), ("a", S2_POLE_A), ("T", r.t_end), ("ref_error", ref_err)] {
         writeln!(p, "{k},{x:.17e}")?;
     }
     for i in 0..3 {
@@ -520,35 +497,16 @@ fn long_time(out: &str, n: usize) -> std::io::Result<()> {
 // 5. Collapse of the affine body
 // ---------------------------------------------------------------------------
 
-/// Affine body on S² in a position-only potential: the internal motion is
-/// free, `ρ(t) = I + tρ̇₀`, and with the compression rate `ρ̇₀` below the
-/// body flattens (`det ρ = 0`) at the smallest positive root `t*` of
-/// `det(I + tρ̇₀) = 1 + t tr ρ̇₀ + t² det ρ̇₀` (here t* ≈ 0.985).
-type FreeAffine = AffineModel<Sphere2, CosineFamily<3>, 2, 3>;
-
-fn collapse_rate() -> Matrix2<f64> {
-    Matrix2::new(-1.0, 0.2, 0.1, 0.3)
-}
-
-fn collapse_problem() -> (FreeAffine, <FreeAffine as System>::State, f64) {
-    let s2 = Sphere2::new(1.0).unwrap();
-    let pot = CosineFamily::new(0.0, 0.5, Centre::sphere2(&s2)).unwrap();
-    let m = AffineModel::new(s2, Affine::new(1.0, affine_inertia()).unwrap(), pot).unwrap();
-    let g = bundle_element_at(&s2, &s2.embed(&Vector2::new(0.8, 0.2))).unwrap();
-    let rd = collapse_rate();
-    let y0 = m.state(&g, &Matrix2::identity(), &Vector2::new(0.6, -0.9), &rd).unwrap();
-    let (tr, dt) = (rd.trace(), rd.determinant());
-    let disc = (tr * tr - 4.0 * dt).sqrt();
-    let t_star = [(-tr + disc) / (2.0 * dt), (-tr - disc) / (2.0 * dt)].into_iter().filter(|t| *t > 0.0).fold(f64::INFINITY, f64::min);
-    (m, y0, t_star)
-}
-
+/// `det(I + tρ̇₀)`: the exact `det ρ` of the free internal motion of
+/// `framedyn::testing::s2_affine_collapse` (`ρ(t) = I + tρ̇₀`, ρ̇₀ =
+/// `S2_COLLAPSE_RATE`), which flattens the body at `s2_collapse_time()`.
 fn exact_det(t: f64) -> f64 {
-    (Matrix2::identity() + collapse_rate() * t).determinant()
+    (Matrix2::identity() + S2_COLLAPSE_RATE * t).determinant()
 }
 
 fn collapse(out: &str) -> std::io::Result<()> {
-    let (m, y0, t_star) = collapse_problem();
+    let r = s2_affine_collapse();
+    let (m, y0, t_star) = (r.system, r.y0, s2_collapse_time());
     eprintln!("  collapse: t* = {t_star:.15} (model predicts {:?})", m.free_collapse_time(&y0));
     let mut f = std::fs::File::create(format!("{out}/stability_collapse.csv"))?;
     writeln!(f, "method,setting,outcome,t_stop,h_stop,t_star_minus_t,steps,rejected,det_rel_error_last,t_det_off_10pct,collapse_ratio_last,h_omega_last,detail")?;
@@ -645,7 +603,7 @@ fn bounce(out: &str, quick: bool) -> std::io::Result<()> {
     for &c in rates {
         let s2 = Sphere2::new(1.0).unwrap();
         let pot = Sum::new(Elastic::new(1.0).unwrap(), CosineFamily::new(0.0, 0.5, Centre::sphere2(&s2)).unwrap());
-        let m: ElasticAffine = AffineModel::new(s2, Affine::new(1.0, affine_inertia()).unwrap(), pot).unwrap();
+        let m: ElasticAffine = AffineModel::new(s2, Affine::new(1.0, AFFINE_INERTIA).unwrap(), pot).unwrap();
         let gq = bundle_element_at(&s2, &s2.embed(&Vector2::new(0.8, 0.2))).unwrap();
         let y0 = m.state(&gq, &Matrix2::identity(), &Vector2::new(0.6, -0.9), &(Matrix2::identity() * -c)).unwrap();
         let t_end = 10.0;

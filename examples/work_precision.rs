@@ -35,16 +35,12 @@ use std::fmt::Write as _;
 use std::io::Write;
 
 use common::*;
-use framedyn::body::Gyroscope;
-use framedyn::coords::{accelerations, ambient_state, energy as coords_energy, Gyroscope2, PlaneRotation, SphereChart};
-use framedyn::dynamics::{Gyroscope2Model, System};
-use framedyn::manifold::Sphere2;
+use framedyn::coords::{accelerations, energy as coords_energy};
+use framedyn::dynamics::{Splittable, System};
 use framedyn::method::baseline::{ChartSystem, CoordinateRk};
-use framedyn::dynamics::Splittable;
 use framedyn::method::{GroupNumerics, ImplicitMidpoint, Method, Rkmk, Splitting};
-use framedyn::solve::Problem;
-use framedyn::potential::{Centre, CosineFamily};
-use framedyn::solve::{solve, Options, Save, Stepper};
+use framedyn::solve::{solve, Options, Problem, Save, Stepper};
+use framedyn::testing::*;
 use nalgebra::{SVector, Vector3};
 
 /// Command-line options.
@@ -83,7 +79,7 @@ where
         (r.observable)(&r.system, st.state())
     };
     let (coarse, fine) = (run(n), run(2 * n));
-    let p = r.problem();
+    let p = r.problem().expect("valid reference problem");
     let dp = solve(&p, &Rkmk::dopri5(), &Options::adaptive(1e-13, 1e-13).save(Save::Ends).max_steps(50_000_000))
         .map(|s| obs_dist(&(r.observable)(&r.system, s.last().1), &fine))
         .unwrap_or(f64::NAN);
@@ -149,59 +145,35 @@ where
 // The S² gyroscope in the paper's coordinates
 // ---------------------------------------------------------------------------
 
-/// The coordinate Lagrangian of the S² gyroscope (a52)/(a91) with
-/// `V = a cos(r/R)`, from `framedyn::coords`.
-type S2Coords = Gyroscope2<SphereChart, CosineFamily<3>>;
-
-fn s2_coords(a: f64) -> S2Coords {
-    let s2 = Sphere2::new(S2_RADIUS).unwrap();
-    let pot = CosineFamily::new(0.0, a, Centre::sphere2(&s2)).unwrap();
-    Gyroscope2::gyroscope(SphereChart::new(S2_RADIUS).unwrap(), PlaneRotation, &Gyroscope::<2>::isotropic(S2_MASS, S2_MOMENT).unwrap(), pot)
+/// The coordinate form of the SPEC §5 problem (`framedyn::testing`), at
+/// field strength `a`.
+fn s2_coords(a: f64) -> S2GyroCoords {
+    s2_gyro_coords(a, S2_RADIUS).expect("valid SPEC §5 parameters")
 }
 
 /// The chart state `(q, q̇)` of the SPEC §5 problem: `q = (r, φ, ψ)`, with
 /// `ψ̇ = ω − cos(r/R) φ̇` so that the angular velocity (a91) is `ω`.
-fn s2_chart_state() -> (SVector<f64, 3>, SVector<f64, 3>) {
-    let q = Vector3::new(S2_Q0[0], S2_Q0[1], S2_Q0[2]);
-    let c = (S2_Q0[0] / S2_RADIUS).cos();
-    let v = Vector3::new(S2_V0[0], S2_V0[1], S2_V0[2] - c * S2_V0[1]);
-    (q, v)
-}
-
-/// Ambient observable of a chart state (same layout as the group form's).
-fn coords_obs(sys: &S2Coords, q: &SVector<f64, 3>, v: &SVector<f64, 3>) -> framedyn::Result<Vec<f64>> {
-    let amb = ambient_state(sys, q, v)?;
-    let s = sys.comoving(q, v)?.spin[(0, 1)];
-    let mut o: Vec<f64> = amb.position.iter().copied().collect();
-    o.extend(amb.velocity.iter());
-    o.extend(amb.frame.iter());
-    o.push(s);
-    Ok(o)
-}
-
-/// `p_φ` in coordinates: `∂L/∂φ̇`.
-fn coords_pphi(sys: &S2Coords, q: &SVector<f64, 3>, v: &SVector<f64, 3>) -> f64 {
-    framedyn::coords::momenta(sys, q, v).map(|p| p[1]).unwrap_or(f64::NAN)
+fn s2_start() -> (SVector<f64, 3>, SVector<f64, 3>) {
+    s2_chart_state(S2_RADIUS, S2_Q0, S2_V0)
 }
 
 /// The S² reference problem, built from the chart state so that the group
-/// and coordinate forms start from the same physical state.
+/// and coordinate forms start from the same physical state
+/// ([`s2_gyro_from_chart`]).
 fn s2_reference(t_end: f64, name: &'static str) -> Reference<S2Gyro> {
-    let sys = s2_coords(S2_A);
-    let (q, v) = s2_chart_state();
-    let amb = ambient_state(&sys, &q, &v).unwrap();
-    let spin = sys.comoving(&q, &v).unwrap().spin[(0, 1)];
-    let mut r = s2_gyro_with(S2_A, S2_RADIUS, S2_Q0, S2_V0, t_end, name);
-    let m: &Gyroscope2Model<_, _> = &r.system;
-    r.y0 = m.state(&amb.position, &amb.velocity, &amb.frame, spin).unwrap();
-    r
+    s2_gyro_from_chart(S2_A, S2_RADIUS, S2_Q0, S2_V0, t_end, name).expect("valid SPEC §5 parameters")
+}
+
+/// `p_φ` in coordinates: `∂L/∂φ̇`.
+fn coords_pphi(sys: &S2GyroCoords, q: &SVector<f64, 3>, v: &SVector<f64, 3>) -> f64 {
+    framedyn::coords::momenta(sys, q, v).map(|p| p[1]).unwrap_or(f64::NAN)
 }
 
 /// Classical RK4 on `(q, q̇)` with the Euler–Lagrange accelerations of
 /// `framedyn::coords` (automatic differentiation): the paper's form as a
 /// user would integrate it. A stand-in for the coordinate baselines of the
 /// `methods` branch.
-fn coords_rk4_run(sys: &S2Coords, q0: SVector<f64, 3>, v0: SVector<f64, 3>, t_end: f64, n: usize) -> Result<(SVector<f64, 3>, SVector<f64, 3>, usize), String> {
+fn coords_rk4_run(sys: &S2GyroCoords, q0: SVector<f64, 3>, v0: SVector<f64, 3>, t_end: f64, n: usize) -> Result<(SVector<f64, 3>, SVector<f64, 3>, usize), String> {
     let h = t_end / n as f64;
     let f = |q: &SVector<f64, 3>, v: &SVector<f64, 3>| accelerations(sys, q, v).map_err(|e| e.to_string());
     let (mut q, mut v) = (q0, v0);
@@ -227,10 +199,10 @@ fn coords_rk4_entry(a: f64) -> Entry<S2Gyro> {
         adaptive: false,
         run: Box::new(move |r, h, clock| {
             let sys = s2_coords(a);
-            let (q0, v0) = s2_chart_state();
+            let (q0, v0) = s2_start();
             let n = (r.t_end / h).ceil() as usize;
             let (cpu, res) = timed(clock, || coords_rk4_run(&sys, q0, v0, r.t_end, n));
-            match res.and_then(|(q, v, rhs)| coords_obs(&sys, &q, &v).map(|o| (o, q, v, rhs)).map_err(|e| e.to_string())) {
+            match res.and_then(|(q, v, rhs)| s2_chart_observable(&sys, &q, &v).map(|o| (o, q, v, rhs)).map_err(|e| e.to_string())) {
                 Ok((obs, q, v, rhs)) => {
                     let e0 = coords_energy(&sys, &q0, &v0).unwrap_or(f64::NAN);
                     let j0 = coords_pphi(&sys, &q0, &v0);
@@ -259,7 +231,7 @@ fn coords_rk4_entry(a: f64) -> Entry<S2Gyro> {
 /// and momentum "drift" are the end values, as for `coords_rk4`).
 fn coordinate_entry<M>(name: &'static str, order: u32, adaptive: bool, a: f64, method: M) -> Entry<S2Gyro>
 where
-    M: Method<ChartSystem<S2Coords, 3>> + 'static,
+    M: Method<ChartSystem<S2GyroCoords, 3>> + 'static,
 {
     Entry {
         name,
@@ -267,8 +239,8 @@ where
         adaptive,
         run: Box::new(move |r, s, clock| {
             let sys = s2_coords(a);
-            let (q0, v0) = s2_chart_state();
-            let problem = match Problem::new(ChartSystem::new(sys.clone()), ChartSystem::<S2Coords, 3>::state(&q0, &v0), (0.0, r.t_end)) {
+            let (q0, v0) = s2_start();
+            let problem = match Problem::new(ChartSystem::new(sys.clone()), ChartSystem::<S2GyroCoords, 3>::state(&q0, &v0), (0.0, r.t_end)) {
                 Ok(p) => p,
                 Err(e) => return Outcome { failure: Some(e.to_string()), ..Outcome::default() },
             };
@@ -281,7 +253,7 @@ where
             };
             let y = sol.last().1;
             let (q, v) = (y.0 .0, y.1 .0);
-            match coords_obs(&sys, &q, &v) {
+            match s2_chart_observable(&sys, &q, &v) {
                 Ok(obs) => Outcome {
                     obs,
                     cpu,
@@ -355,7 +327,7 @@ fn s2_entries() -> Vec<Entry<S2Gyro>> {
 /// Writes the S² problem data and coordinate-form samples for the script.
 fn write_s2_data(out: &str, reference: &[f64], t_end: f64) -> std::io::Result<()> {
     let sys = s2_coords(S2_A);
-    let (q, v) = s2_chart_state();
+    let (q, v) = s2_start();
     let mut f = std::fs::File::create(format!("{out}/s2_problem.csv"))?;
     writeln!(f, "key,value")?;
     for (k, x) in [("m", S2_MASS), ("R", S2_RADIUS), ("I", S2_MOMENT), ("a", S2_A), ("T", t_end)] {
@@ -382,7 +354,7 @@ fn write_s2_data(out: &str, reference: &[f64], t_end: f64) -> std::io::Result<()
         let a = accelerations(&sys, &q, &v).expect("away from the poles");
         let e = coords_energy(&sys, &q, &v).unwrap();
         let p = coords_pphi(&sys, &q, &v);
-        let o = coords_obs(&sys, &q, &v).unwrap();
+        let o = s2_chart_observable(&sys, &q, &v).unwrap();
         let mut line = format!("{:.17e},{:.17e},{:.17e},{:.17e},{:.17e},{:.17e}", q[0], q[1], q[2], v[0], v[1], v[2]);
         for y in a.iter().chain([e, p].iter()).chain(o.iter()) {
             write!(line, ",{y:.17e}").unwrap();

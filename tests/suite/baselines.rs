@@ -11,9 +11,10 @@ use framedyn::manifold::{Hyperbolic2, Manifold, Sphere2};
 use framedyn::method::baseline::{ChartSystem, CoordinateRk};
 use framedyn::method::{Method, Rkmk, Splitting};
 use framedyn::solve::{solve, Options, Problem, SolveError};
+use framedyn::testing::Axial;
 use nalgebra::{Vector2, Vector3};
 
-use super::splitting::{check_order, reference, Axial};
+use super::splitting::{check_order, reference};
 
 type S2Chart = ChartSystem<PointLagrangian<SphereChart, Axial, 2, 3>, 2>;
 type H2Chart = ChartSystem<PointLagrangian<HyperbolicChart, Axial, 2, 3>, 2>;

@@ -16,6 +16,7 @@ use framedyn::dynamics::constrained::{IncompressibleModel, WeylModel};
 use framedyn::dynamics::{Gyroscope2Model, Gyroscope3Model, PointModel};
 use framedyn::manifold::{Hyperbolic2, Sphere2, Sphere3, Torus2};
 use framedyn::potential::{Centre, Elastic, Free, Oscillator, Potential, Scalar, Sum};
+use framedyn::testing::Axial;
 use framedyn::Error;
 use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};
 use proptest::prelude::*;
@@ -23,24 +24,6 @@ use std::f64::consts::{PI, TAU};
 
 fn config(cases: u32) -> ProptestConfig {
     ProptestConfig { cases, failure_persistence: None, ..ProptestConfig::default() }
-}
-
-/// `V = a·x[axis]/R + b·e₁[axis]`: a position tilt plus a frame term (so the
-/// energy comparison includes a potential that depends on the body frame).
-#[derive(Debug, Clone, Copy)]
-struct Axial<const N: usize, const E: usize> {
-    a: f64,
-    b: f64,
-    axis: usize,
-}
-
-impl<const N: usize, const E: usize> Potential<N, E> for Axial<N, E> {
-    fn uses_frame(&self) -> bool {
-        self.b != 0.0
-    }
-    fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, _m: &SMatrix<f64, E, E>) -> D {
-        x[self.axis] * self.a + e[(self.axis, 0)] * self.b
-    }
 }
 
 const TOL: f64 = 1e-13;
@@ -147,13 +130,13 @@ proptest! {
             }};
         }
         let s2 = Sphere2::new(radius).unwrap();
-        let pot = Sum::new(Oscillator::new(k, Centre::sphere2_at(&s2, &Vector3::new(radius, 0.0, 0.0)).unwrap()).unwrap(), Axial::<2, 3> { a: 0.3, b, axis: 1 });
+        let pot = Sum::new(Oscillator::new(k, Centre::sphere2_at(&s2, &Vector3::new(radius, 0.0, 0.0)).unwrap()).unwrap(), Axial { a: 0.3, b, radius: 1.0, axis: 1 });
         case!("S2", SphereChart::new(radius).unwrap(), s2, Vector2::new(t * radius, phi / 3.0), pot, [1usize, 2]);
         let h2 = Hyperbolic2::new(radius).unwrap();
-        let pot = Sum::new(Oscillator::new(k, Centre::hyperbolic2(&h2)).unwrap(), Axial::<2, 3> { a: 0.0, b, axis: 0 });
+        let pot = Sum::new(Oscillator::new(k, Centre::hyperbolic2(&h2)).unwrap(), Axial { a: 0.0, b, radius: 1.0, axis: 0 });
         case!("H2", HyperbolicChart::new(radius).unwrap(), h2, Vector2::new(t * radius * 0.5, phi), pot, [1usize, 2]);
         let t2 = Torus2::new(2.5 * radius, radius).unwrap();
-        let pot = Axial::<2, 3> { a: k, b, axis: 2 };
+        let pot = Axial { a: k, b, radius: 1.0, axis: 2 };
         case!("T2", TorusChart::new(2.5 * radius, radius).unwrap(), t2, Vector2::new(2.0 * t - PI, phi), pot, [0usize, 1, 2]);
     }
 
@@ -198,10 +181,10 @@ proptest! {
                 check(&format!("{} Weyl", $name), &round_trip(&sys, &model, q, qd4, a0).0)?;
             }};
         }
-        let pot = Sum::new(Elastic::new(k).unwrap(), Axial::<2, 3> { a: 0.3, b, axis: 1 });
+        let pot = Sum::new(Elastic::new(k).unwrap(), Axial { a: 0.3, b, radius: 1.0, axis: 1 });
         case!("S2", SphereChart::new(radius).unwrap(), Sphere2::new(radius).unwrap(), Vector2::new(t * radius, phi), pot, false);
         case!("H2", HyperbolicChart::new(radius).unwrap(), Hyperbolic2::new(radius).unwrap(), Vector2::new(t * radius * 0.5, phi), pot, false);
-        let pot = Sum::new(Elastic::new(k).unwrap(), Axial::<2, 3> { a: 0.3, b, axis: 2 });
+        let pot = Sum::new(Elastic::new(k).unwrap(), Axial { a: 0.3, b, radius: 1.0, axis: 2 });
         case!("T2", TorusChart::new(2.5 * radius, radius).unwrap(), Torus2::new(2.5 * radius, radius).unwrap(), Vector2::new(2.0 * t - PI, phi), pot, true);
     }
 
@@ -220,7 +203,7 @@ proptest! {
         let s3 = Sphere3::new(radius).unwrap();
         let chart = Sphere3Chart::new(radius).unwrap();
         let rbar = Vector3::new(x[0], x[1], x[2]) * radius;
-        let pot = Sum::new(Oscillator::new(k, Centre::sphere3(&s3)).unwrap(), Axial::<3, 4> { a: 0.2, b, axis: 1 });
+        let pot = Sum::new(Oscillator::new(k, Centre::sphere3(&s3)).unwrap(), Axial { a: 0.2, b, radius: 1.0, axis: 1 });
         let point = Point::new(m).unwrap();
         let free = Oscillator::new(k, Centre::sphere3(&s3)).unwrap();
         let sys = PointLagrangian::new(chart, &point, free);

@@ -19,6 +19,7 @@ use framedyn::dynamics::{Gyroscope2Model, Gyroscope3Model, PointModel, System};
 use framedyn::lie::So3;
 use framedyn::manifold::{Hyperbolic2, Sphere2, Sphere3, Torus2};
 use framedyn::potential::{Centre, CosineFamily, Free, Oscillator, Potential, Scalar, Sum};
+use framedyn::testing::Axial;
 use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};
 use proptest::prelude::*;
 
@@ -31,24 +32,6 @@ pub(crate) fn config(cases: u32) -> ProptestConfig {
 /// Largest entry of `a − b` relative to `max(1, |b|_max)`.
 fn rel<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) -> f64 {
     (a - b).amax() / b.amax().max(1.0)
-}
-
-/// `V = a·x[axis]/R + b·e₁[axis]`: position tilt plus a frame (dipole) term.
-#[derive(Debug, Clone, Copy)]
-struct Axial<const N: usize, const E: usize> {
-    a: f64,
-    b: f64,
-    radius: f64,
-    axis: usize,
-}
-
-impl<const N: usize, const E: usize> Potential<N, E> for Axial<N, E> {
-    fn uses_frame(&self) -> bool {
-        self.b != 0.0
-    }
-    fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, _m: &SMatrix<f64, E, E>) -> D {
-        x[self.axis] * (self.a / self.radius) + e[(self.axis, 0)] * self.b
-    }
 }
 
 const EPS2: Matrix2<f64> = Matrix2::new(0.0, -1.0, 1.0, 0.0);
@@ -181,7 +164,7 @@ proptest! {
         let tc = TorusChart::new(bl, r).unwrap();
         let qt = Vector2::new(th * 2.0, phi);
         assert_all("T2 free", &point_derivs(tc.clone(), t2, m, Free, qt, vv))?;
-        let ax = Axial::<2, 3> { a: k, b: 0.0, radius: r, axis: 2 };
+        let ax = Axial { a: k, b: 0.0, radius: r, axis: 2 };
         assert_all("T2 axial", &point_derivs(tc, t2, m, ax, qt, vv))?;
     }
 
@@ -199,21 +182,21 @@ proptest! {
         assert_all("S2 free", &gyro2_derivs(sc.clone(), s2, body, Free, q, vv))?;
         let osc = Oscillator::new(k, Centre::sphere2(&s2)).unwrap();
         assert_all("S2 oscillator", &gyro2_derivs(sc.clone(), s2, body, osc, q, vv))?;
-        let ax = Sum::new(osc, Axial::<2, 3> { a: 0.3, b, radius, axis: 0 });
+        let ax = Sum::new(osc, Axial { a: 0.3, b, radius, axis: 0 });
         assert_all("S2 oscillator + frame", &gyro2_derivs(sc, s2, body, ax, q, vv))?;
         let h2 = Hyperbolic2::new(radius).unwrap();
         let hc = HyperbolicChart::new(radius).unwrap();
         let qh = Vector3::new(th * radius * 0.7, phi, psi);
         assert_all("H2 free", &gyro2_derivs(hc.clone(), h2, body, Free, qh, vv))?;
         let osc = Oscillator::new(k, Centre::hyperbolic2(&h2)).unwrap();
-        let ax = Sum::new(osc, Axial::<2, 3> { a: 0.0, b, radius, axis: 0 });
+        let ax = Sum::new(osc, Axial { a: 0.0, b, radius, axis: 0 });
         assert_all("H2 oscillator + frame", &gyro2_derivs(hc, h2, body, ax, qh, vv))?;
         let (bl, r) = (2.5 * radius, radius);
         let t2 = Torus2::new(bl, r).unwrap();
         let tc = TorusChart::new(bl, r).unwrap();
         let qt = Vector3::new(th * 2.0, phi, psi);
         assert_all("T2 free", &gyro2_derivs(tc.clone(), t2, body, Free, qt, vv))?;
-        let ax = Axial::<2, 3> { a: k, b, radius: r, axis: 2 };
+        let ax = Axial { a: k, b, radius: r, axis: 2 };
         assert_all("T2 axial + frame", &gyro2_derivs(tc, t2, body, ax, qt, vv))?;
     }
 
@@ -231,7 +214,7 @@ proptest! {
         let vv = SVector::<f64, 6>::from_column_slice(&v);
         assert_all("S3 free", &gyro3_derivs(radius, body, Free, q, vv))?;
         let s3 = Sphere3::new(radius).unwrap();
-        let pot = Sum::new(Oscillator::new(k, Centre::sphere3(&s3)).unwrap(), Axial::<3, 4> { a: 0.2, b, radius, axis: 1 });
+        let pot = Sum::new(Oscillator::new(k, Centre::sphere3(&s3)).unwrap(), Axial { a: 0.2, b, radius, axis: 1 });
         assert_all("S3 oscillator + frame", &gyro3_derivs(radius, body, pot, q, vv))?;
     }
 }
@@ -419,17 +402,17 @@ fn point_and_gyroscope2_trajectories_agree() {
         // |φ| ≤ 1 keeps the start inside the oscillator's well (tan² is singular
         // on the great circle x = 0, a quarter turn from the centre).
         refine("S2 point oscillator", |n| point_traj(sc.clone(), s2, m, osc, Vector2::new(th * radius, phi / 3.0), Vector2::new(v[0], v[1]), n, s2_clear))?;
-        let pot = Sum::new(osc, Axial::<2, 3> { a: 0.3, b, radius, axis: 0 });
+        let pot = Sum::new(osc, Axial { a: 0.3, b, radius, axis: 0 });
         refine("S2 gyro oscillator + frame", |n| gyro2_traj(sc.clone(), s2, body, pot, Vector3::new(th * radius, phi / 3.0, psi), vv, n, |q| (q[0] / radius).sin()))?;
         let h2 = Hyperbolic2::new(radius).unwrap();
         let hc = HyperbolicChart::new(radius).unwrap();
         // No pole-centred oscillator here either: a tilt plus the frame term.
-        let pot = Axial::<2, 3> { a: k, b, radius, axis: 0 };
+        let pot = Axial { a: k, b, radius, axis: 0 };
         refine("H2 gyro tilt + frame", |n| gyro2_traj(hc.clone(), h2, body, pot, Vector3::new(th * radius * 0.7, phi, psi), vv, n, |q| q[0] / radius))?;
         let (bl, r) = (2.5 * radius, radius);
         let t2 = Torus2::new(bl, r).unwrap();
         let tc = TorusChart::new(bl, r).unwrap();
-        let pot = Axial::<2, 3> { a: k, b, radius: r, axis: 2 };
+        let pot = Axial { a: k, b, radius: r, axis: 2 };
         refine("T2 gyro axial + frame", |n| gyro2_traj(tc.clone(), t2, body, pot, Vector3::new(th * 2.0, phi, psi), vv, n, |_| 1.0))?;
         Ok(())
     });
@@ -447,7 +430,7 @@ fn gyroscope3_trajectories_agree() {
         let mut q = SVector::<f64, 6>::from_column_slice(&x);
         for i in 0..3 { q[i] *= radius; }
         let vv = SVector::<f64, 6>::from_column_slice(&v);
-        let pot = Axial::<3, 4> { a: 0.2, b, radius, axis: 1 };
+        let pot = Axial { a: 0.2, b, radius, axis: 1 };
         let sys = Gyroscope3::gyroscope(Sphere3Chart::new(radius).unwrap(), RotationVector, &body, pot);
         let model = Gyroscope3Model::new(Sphere3::new(radius).unwrap(), body, pot).unwrap();
         // Clearance from the antipode, where the rotation-vector chart is singular.

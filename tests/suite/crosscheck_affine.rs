@@ -61,6 +61,7 @@ use framedyn::dynamics::System;
 use framedyn::lie::LieGroup;
 use framedyn::manifold::{Hyperbolic2, Sphere2, Sphere3, Torus2};
 use framedyn::potential::{Centre, Elastic, Free, Kepler, Oscillator, Potential, Scalar, Sum};
+use framedyn::testing::Axial;
 use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};
 use num_dual::Dual64;
 use proptest::prelude::*;
@@ -75,26 +76,6 @@ fn rel<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, 
 // ---------------------------------------------------------------------------
 // Potentials
 // ---------------------------------------------------------------------------
-
-/// `V = a·x[axis]/R + b·e₁[axis]`: a position tilt plus a frame (dipole)
-/// term, linear in `ρ` (frame-dependent, breaks the rotational symmetry of
-/// both the position and the body).
-#[derive(Debug, Clone, Copy)]
-struct Axial {
-    a: f64,
-    b: f64,
-    radius: f64,
-    axis: usize,
-}
-
-impl<const N: usize, const E: usize> Potential<N, E> for Axial {
-    fn uses_frame(&self) -> bool {
-        self.b != 0.0
-    }
-    fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, _m: &SMatrix<f64, E, E>) -> D {
-        x[self.axis] * (self.a / self.radius) + e[(self.axis, 0)] * self.b
-    }
-}
 
 // ---------------------------------------------------------------------------
 // Instantaneous comparison

@@ -14,6 +14,7 @@ use framedyn::dynamics::{
 use framedyn::lie::{LieGroup, Product, ProductAlgebra, Rn, So12, So2, So3, So4};
 use framedyn::manifold::{Hyperbolic2, Manifold, Sphere2, Sphere3, Torus2};
 use framedyn::potential::{Free, Potential, Scalar};
+use framedyn::testing::Axial;
 use framedyn::Error;
 use nalgebra::{
     DMatrix, Matrix2, Matrix3, Matrix3x2, Matrix4, Matrix4x3, SMatrix, SVector, Vector1, Vector2, Vector3, Vector4,
@@ -25,27 +26,6 @@ use crate::bundle_laws::rkmk4_step;
 // ---------------------------------------------------------------------------
 // Test potentials and helpers
 // ---------------------------------------------------------------------------
-
-/// `V = a·x[axis]/R + b·e₁[axis]`: a tilt of the position (the paper's
-/// `a·cos(r/R)` on S² for `axis = 2`) plus, for `b ≠ 0`, a frame coupling
-/// (a dipole `e₁` in a uniform field). Both terms are invariant under the
-/// isometries that fix the ambient axis `axis`.
-#[derive(Debug, Clone, Copy)]
-struct Axial<const N: usize, const E: usize> {
-    a: f64,
-    b: f64,
-    radius: f64,
-    axis: usize,
-}
-
-impl<const N: usize, const E: usize> Potential<N, E> for Axial<N, E> {
-    fn uses_frame(&self) -> bool {
-        self.b != 0.0
-    }
-    fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, _m: &SMatrix<f64, E, E>) -> D {
-        x[self.axis] * (self.a / self.radius) + e[(self.axis, 0)] * self.b
-    }
-}
 
 /// Integrates `sys` with `steps` RKMK4 steps of size `h`, calling `obs` at
 /// every step (including the initial state).
@@ -185,10 +165,10 @@ impl<const D: usize> Top<D> {
 #[test]
 fn point_rejects_a_frame_dependent_potential() {
     let s2 = Sphere2::new(1.0).unwrap();
-    let v = Axial::<2, 3> { a: 0.1, b: 0.2, radius: 1.0, axis: 2 };
+    let v = Axial { a: 0.1, b: 0.2, radius: 1.0, axis: 2 };
     let err = PointModel::new(s2, Point::new(1.0).unwrap(), v).unwrap_err();
     assert!(matches!(err, Error::Constraint { field: "potential", .. }), "{err:?}");
-    let ok = PointModel::new(s2, Point::new(1.0).unwrap(), Axial::<2, 3> { b: 0.0, ..v });
+    let ok = PointModel::new(s2, Point::new(1.0).unwrap(), Axial { b: 0.0, ..v });
     assert!(ok.is_ok());
 }
 
@@ -419,7 +399,7 @@ fn gyro2_vs_top<B: FrameBundle<2, 3>, G: LieGroup>(
 ) -> (f64, f64) {
     let sigma = sign(sig);
     let body = Gyroscope::<2>::isotropic(m, moment).unwrap().with_signature(sig);
-    let model = Gyroscope2Model::new(bundle, body, Axial::<2, 3> { a, b, radius, axis: 2 }).unwrap();
+    let model = Gyroscope2Model::new(bundle, body, Axial { a, b, radius, axis: 2 }).unwrap();
     let mr2 = m * radius * radius;
     let inertia = Matrix3::from_diagonal(&Vector3::new(mr2, mr2, sigma * moment));
     let top = Top::<3> { inv_inertia: inertia.try_inverse().unwrap(), a, b, axis: 2, ncol: 2, ecol: 0 };
@@ -621,7 +601,7 @@ fn gyro3_vs_top(
     let sigma = sign(sig);
     let body = Gyroscope::<3>::new(m, j).unwrap().with_signature(sig);
     let model =
-        Gyroscope3Model::new(Sphere3::new(radius).unwrap(), body, Axial::<3, 4> { a, b, radius, axis: 0 }).unwrap();
+        Gyroscope3Model::new(Sphere3::new(radius).unwrap(), body, Axial { a, b, radius, axis: 0 }).unwrap();
     let op = Matrix3::identity() * j.trace() - j;
     let mut inertia = SMatrix::<f64, 6, 6>::identity() * (m * radius * radius);
     inertia.fixed_view_mut::<3, 3>(3, 3).copy_from(&(op * sigma));
@@ -785,7 +765,7 @@ proptest! {
     ) {
         let sig = if lorentz { Signature::Lorentz } else { Signature::Riemannian };
         let body = Gyroscope::<2>::isotropic(m, moment).unwrap().with_signature(sig);
-        let pot = Axial::<2, 3> { a, b: a * bf, radius, axis: 2 };
+        let pot = Axial { a, b: a * bf, radius, axis: 2 };
         let u0 = Vector2::new(u[0], -u[1]);
         let gm = Gyroscope2Model::new(Sphere2::new(radius).unwrap(), body, pot).unwrap();
         let (p, e) = s2_start(radius, &[3.0 * w[0], 3.0 * w[1], 3.0 * w[2]]);
@@ -825,7 +805,7 @@ proptest! {
         radius in 0.8..2.0f64, m in 0.5..2.0f64, a in 0.2..1.0f64,
         w in proptest::collection::vec(-1.0..1.0f64, 6), u in proptest::collection::vec(0.2..1.0f64, 3),
     ) {
-        let pot = Axial::<2, 3> { a, b: 0.0, radius, axis: 2 };
+        let pot = Axial { a, b: 0.0, radius, axis: 2 };
         let pm = PointModel::new(Sphere2::new(radius).unwrap(), Point::new(m).unwrap(), pot).unwrap();
         let (p, e) = s2_start(radius, &[3.0 * w[0], 3.0 * w[1], 3.0 * w[2]]);
         let y0 = pm.state(&p, &(e * Vector2::new(u[0], -u[1]))).unwrap();
@@ -844,7 +824,7 @@ proptest! {
         let jxy = |y: &_| Vector2::new(pm.momentum_map(y, &x_rot).unwrap(), pm.momentum_map(y, &y_rot).unwrap());
         prop_assert!(drift(&pm, &y0, 0.01, 600, &jxy) > 1e-2 * m * radius * u[0].max(u[1]));
 
-        let pot = Axial::<2, 3> { a, b: 0.0, radius, axis: 2 };
+        let pot = Axial { a, b: 0.0, radius, axis: 2 };
         let pm = PointModel::new(Hyperbolic2::new(radius).unwrap(), Point::new(m).unwrap(), pot).unwrap();
         let (p, e) = h2_start(radius, &w);
         let y0 = pm.state(&p, &(e * Vector2::new(u[0], -u[1]))).unwrap();
@@ -856,7 +836,7 @@ proptest! {
             prop_assert!(r.is_ok(), "{}", r.unwrap_err());
         }
 
-        let pot = Axial::<3, 4> { a, b: 0.0, radius, axis: 0 };
+        let pot = Axial { a, b: 0.0, radius, axis: 0 };
         let pm = PointModel::new(Sphere3::new(radius).unwrap(), Point::new(m).unwrap(), pot).unwrap();
         let q = rot4(&w);
         let e: Matrix4x3<f64> = q.matrix().fixed_columns::<3>(1).into_owned();
@@ -908,7 +888,7 @@ proptest! {
         ] {
             prop_assert!(r.is_ok(), "{}", r.unwrap_err());
         }
-        let pot = Axial::<3, 4> { a, b: a * b, radius, axis: 0 };
+        let pot = Axial { a, b: a * b, radius, axis: 0 };
         let gm = Gyroscope3Model::new(Sphere3::new(radius).unwrap(), body, pot).unwrap();
         let y0 = gm.state(&p, &v, &e, &spin).unwrap();
         let r = check_order("S3 energy", &gm, &y0, 4.0, &|y| one(gm.energy(y)), ORDER4);
@@ -1185,7 +1165,7 @@ proptest! {
         w in proptest::collection::vec(-3.0..3.0f64, 6), r in proptest::collection::vec(-3.0..3.0f64, 3),
     ) {
         let s2 = Sphere2::new(radius).unwrap();
-        let pot = Axial::<2, 3> { a, b, radius, axis: 2 };
+        let pot = Axial { a, b, radius, axis: 2 };
         let gm = Gyroscope2Model::new(s2, Gyroscope::<2>::isotropic(1.0, 0.3).unwrap(), pot).unwrap();
         let g = rot3(&w[..3]);
         let rho = So2::exp(&Vector1::new(alpha));
@@ -1204,7 +1184,7 @@ proptest! {
         prop_assert!((torque + (vat(alpha + d) - vat(alpha - d)) / (2.0 * d)).abs() < 1e-9);
 
         let s3 = Sphere3::new(radius).unwrap();
-        let pot = Axial::<3, 4> { a, b, radius, axis: 0 };
+        let pot = Axial { a, b, radius, axis: 0 };
         let g3 = Gyroscope3Model::new(s3, Gyroscope::<3>::isotropic(1.0, 0.3).unwrap(), pot).unwrap();
         let g = rot4(&w);
         let rho = rot3(&r);
@@ -1287,7 +1267,7 @@ fn t2_vs_lagrangian(
 ) -> f64 {
     let torus = Torus2::new(big_l, r).unwrap();
     let body = Gyroscope::<2>::isotropic(m, moment).unwrap().with_signature(sig);
-    let gm = Gyroscope2Model::new(torus, body, Axial::<2, 3> { a, b, radius: r, axis: 2 }).unwrap();
+    let gm = Gyroscope2Model::new(torus, body, Axial { a, b, radius: r, axis: 2 }).unwrap();
     let y0 = gm.state_from_parts(&Rn(x0), &So2::exp(&Vector1::new(alpha)), &u0, s).unwrap();
     // Chart velocities from the frame components: v = U(a)u in (E_θ, E_φ).
     let (sa, ca) = x0[2].sin_cos();

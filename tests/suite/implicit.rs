@@ -7,45 +7,12 @@
 
 use std::time::Instant;
 
-use framedyn::body::{Affine, Gyroscope};
-use framedyn::dynamics::affine::AffineModel;
-use framedyn::dynamics::point::bundle_element_at;
-use framedyn::dynamics::{Gyroscope2Model, System};
-use framedyn::manifold::{Manifold, Sphere2, Torus2};
+use framedyn::dynamics::System;
 use framedyn::method::{GroupNumerics, ImplicitMidpoint, Method, MethodError, Rkmk, StepFault, StepRequest};
-use framedyn::potential::{Elastic, Sum};
 use framedyn::solve::{SolveError, Stepper};
-use nalgebra::{Matrix2, Vector2};
+use framedyn::testing::{s2_tilted_affine, s2_tilted_gyro, t2_tilted_gyro, t2_tilted_gyro_with};
 
-use super::splitting::{check_order, dist, reference, s2_gyro, Axial};
-
-type T2Gyro = Gyroscope2Model<Torus2, Axial>;
-type Pot2 = Sum<Elastic, Axial>;
-type S2Affine = AffineModel<Sphere2, Pot2, 2, 3>;
-
-/// A gyroscope on the torus T²(L = 2, R = 0.7) with a tilt along z and a
-/// frame coupling (curvature varies: no exact free flow).
-fn t2_gyro() -> (T2Gyro, <T2Gyro as System>::State) {
-    let t2 = Torus2::new(2.0, 0.7).unwrap();
-    let m = Gyroscope2Model::new(t2, Gyroscope::<2>::isotropic(1.0, 0.3).unwrap(), Axial { a: 0.8, b: 0.3, radius: 0.7, axis: 2 })
-        .unwrap();
-    let x = Vector2::new(0.6, 0.2);
-    let (p, v) = (t2.embed(&x), t2.embed_tangent(&x, &Vector2::new(0.9, 0.4)));
-    (m.clone(), m.state_at(&p, &v, 0.4, 0.6).unwrap())
-}
-
-/// An affinely-rigid body on S² (ρ ∈ GL⁺(2)) in the elastic potential (a131)
-/// plus a tilt and a frame coupling.
-fn s2_affine() -> (S2Affine, <S2Affine as System>::State) {
-    let s2 = Sphere2::new(1.0).unwrap();
-    let pot = Sum::new(Elastic::new(0.8).unwrap(), Axial { a: 0.4, b: 0.3, radius: 1.0, axis: 2 });
-    let m = AffineModel::new(s2, Affine::new(1.0, Matrix2::new(0.3, 0.07, 0.07, 0.15)).unwrap(), pot).unwrap();
-    let g = bundle_element_at(&s2, &s2.embed(&Vector2::new(0.8, 0.2))).unwrap();
-    let y = m
-        .state(&g, &Matrix2::new(1.1, 0.3, -0.2, 0.8), &Vector2::new(0.6, -0.9), &Matrix2::new(0.4, -0.6, 0.5, 0.2))
-        .unwrap();
-    (m, y)
-}
+use super::splitting::{check_order, dist, reference};
 
 const NS: [usize; 5] = [40, 80, 160, 320, 640];
 
@@ -54,13 +21,13 @@ const NS: [usize; 5] = [40, 80, 160, 320, 640];
 #[test]
 fn implicit_midpoint_has_order_2() {
     let m = ImplicitMidpoint::new();
-    let (s, y) = t2_gyro();
+    let (s, y) = t2_tilted_gyro().into_parts();
     let r = reference(&s, y, 2.0);
     check_order("T2 gyro", &s, y, 2.0, m, &NS, 2.0, &r);
-    let (s, y) = s2_gyro(0.8, 0.4);
+    let (s, y) = s2_tilted_gyro().into_parts();
     let r = reference(&s, y, 2.0);
     check_order("S2 gyro", &s, y, 2.0, m, &NS, 2.0, &r);
-    let (s, y) = s2_affine();
+    let (s, y) = s2_tilted_affine().into_parts();
     let r = reference(&s, y, 1.0);
     check_order("S2 affine", &s, y, 1.0, m, &NS, 2.0, &r);
 }
@@ -85,9 +52,9 @@ fn implicit_midpoint_is_symmetric() {
         assert!(d <= 1e-13, "{label}: {d:e}");
         assert!(dc >= 1e-6, "{label}: control unexpectedly symmetric ({dc:e})");
     }
-    let (s, y) = t2_gyro();
+    let (s, y) = t2_tilted_gyro().into_parts();
     check("T2 gyro", &s, y);
-    let (s, y) = s2_affine();
+    let (s, y) = s2_tilted_affine().into_parts();
     check("S2 affine", &s, y);
 }
 
@@ -121,10 +88,7 @@ fn energy_windows<S: System>(s: &S, y0: S::State, n: usize, step: &dyn Fn(&S::St
 /// 9.5e-3 over the same run, RKMK2 1.5e-2 → 9.7e-2), not asserted.
 #[test]
 fn implicit_midpoint_energy_is_bounded() {
-    let t2 = Torus2::new(2.0, 0.7).unwrap();
-    let s = Gyroscope2Model::new(t2, Gyroscope::<2>::isotropic(1.0, 0.3).unwrap(), Axial { a: 0.8, b: 0.0, radius: 0.7, axis: 2 }).unwrap();
-    let x = Vector2::new(0.6, 0.2);
-    let y0 = s.state_at(&t2.embed(&x), &t2.embed_tangent(&x, &Vector2::new(0.9, 0.4)), 0.4, 0.6).unwrap();
+    let (s, y0) = t2_tilted_gyro_with(0.8, 0.0).unwrap().into_parts();
     let n = 20_000;
     let im = ImplicitMidpoint::new();
     let start = Instant::now();
@@ -132,7 +96,7 @@ fn implicit_midpoint_energy_is_bounded() {
     let secs = start.elapsed().as_secs_f64();
     let (fh, lh) = energy_windows(&s, y0, n, &|y| Rkmk::heun().step(&s, 0.0, y, 0.05, StepRequest::plain()).unwrap().y);
     eprintln!("T2 gyro (integrable), 2e4 steps h = 0.05: implicit midpoint max|ΔE| first/last tenth {f:.2e}/{l:.2e} ({secs:.2} s); RKMK2 {fh:.2e}/{lh:.2e}");
-    let (sc, yc) = t2_gyro();
+    let (sc, yc) = t2_tilted_gyro().into_parts();
     let (fc, lc) = energy_windows(&sc, yc, n, &|y| im.step(&sc, 0.0, y, 0.05, StepRequest::plain()).unwrap().y);
     eprintln!("T2 gyro with frame coupling (not asserted): implicit midpoint {fc:.2e}/{lc:.2e}");
     assert!(l <= 1.5 * f, "implicit midpoint energy drifts: {f:e} → {l:e}");
@@ -146,7 +110,7 @@ fn implicit_midpoint_energy_is_bounded() {
 /// `InvalidParameter` errors.
 #[test]
 fn newton_failure_is_a_typed_error() {
-    let (s, y0) = t2_gyro();
+    let (s, y0) = t2_tilted_gyro().into_parts();
     let one = ImplicitMidpoint::new().with_newton(1e-16, 1).unwrap();
     match one.step(&s, 0.0, &y0, 0.1, StepRequest::plain()) {
         Err(StepFault::NoConvergence { iterations, residual, .. }) => {

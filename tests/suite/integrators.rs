@@ -224,7 +224,7 @@ where
 /// free asymmetric rigid body SO(3)×ℝ³; must be nominal ± 0.2.
 #[test]
 fn orders_rigid_body() {
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     orders_on("rigid body", &sys, y0, 4.0);
 }
 
@@ -232,7 +232,7 @@ fn orders_rigid_body() {
 /// chaotic; at T = 4 Heun's error ratios are still 5.2 → 4.2 at n = 640).
 #[test]
 fn orders_heavy_top() {
-    let (sys, y0) = heavy_top();
+    let (sys, y0) = heavy_top().into_parts();
     orders_on("heavy top", &sys, y0, 2.0);
 }
 
@@ -246,7 +246,7 @@ fn orders_gl2() {
 /// Same on the oscillator on H² in the SO⁺(1,2) frame bundle.
 #[test]
 fn orders_hyperbolic() {
-    let (sys, y0) = hyperbolic();
+    let (sys, y0) = hyperbolic_oscillator().into_parts();
     orders_on("H2 oscillator", &sys, y0, 4.0);
 }
 
@@ -304,11 +304,11 @@ where
 /// error at errors below 1e-12 (measured slope 6.08 over n = 10 … 160).
 #[test]
 fn truncating_dexp_inv_one_term_too_early_lowers_the_order() {
-    let (sys, y0) = heavy_top();
+    let (sys, y0) = heavy_top().into_parts();
     truncation_on("heavy top", &sys, y0, 2.0, true);
     let (sys, y0) = gl_flow();
     truncation_on("GL(2) flow", &sys, y0, 4.0, true);
-    let (sys, y0) = hyperbolic();
+    let (sys, y0) = hyperbolic_oscillator().into_parts();
     truncation_on("H2 oscillator", &sys, y0, 4.0, false);
 }
 
@@ -318,7 +318,7 @@ fn truncating_dexp_inv_one_term_too_early_lowers_the_order() {
 /// the work counters match the forms.
 #[test]
 fn two_commutator_rk4_economy() {
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     let (r, _) = reference(&sys, y0, 4.0);
     let n = 80;
     let mut cost = Vec::new();
@@ -346,7 +346,7 @@ fn two_commutator_rk4_economy() {
 /// after each step — must stay ≤ 1e-13; also prints the energy drift.
 #[test]
 fn group_constraint_preserved_over_a_million_steps() {
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     let e0 = sys.energy(&y0);
     let mut st = Stepper::new(sys, Rkmk::rk4(), 0.0, y0).unwrap();
     let mut worst: f64 = 0.0;
@@ -366,7 +366,7 @@ fn group_constraint_preserved_over_a_million_steps() {
 /// 2·10⁵ RKMK4 steps of the H² oscillator: ≤ 1e-13.
 #[test]
 fn lorentz_constraint_preserved() {
-    let (sys, y0) = hyperbolic();
+    let (sys, y0) = hyperbolic_oscillator().into_parts();
     let mut st = Stepper::new(sys, Rkmk::rk4(), 0.0, y0).unwrap();
     let mut worst: f64 = 0.0;
     for _ in 0..200_000 {
@@ -456,11 +456,11 @@ where
 /// dexp⁻¹ gives the same, so it is the pair, not the Lie-group part.)
 #[test]
 fn adaptive_dopri5_meets_its_tolerance() {
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     let mut all = adaptive_errors("rigid body", &sys, y0, 10.0, 4..=10);
     let (sys, y0) = gl_flow();
     all.extend(adaptive_errors("GL(2) flow", &sys, y0, 10.0, 4..=10));
-    let (sys, y0) = hyperbolic();
+    let (sys, y0) = hyperbolic_oscillator().into_parts();
     all.extend(adaptive_errors("H2 oscillator", &sys, y0, 10.0, 4..=10));
     for (tol, err) in all {
         assert!(err <= 10.0, "tol {tol:e}: global error {err} × tol");
@@ -489,11 +489,11 @@ where
 /// `embedded_error_estimate_is_asymptotically_exact`).
 #[test]
 fn adaptive_error_is_proportional_to_the_tolerance() {
-    let (sys, y0) = lagrange_top();
+    let (sys, y0) = lagrange_top().into_parts();
     check_proportional("Lagrange top", &sys, y0);
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     check_proportional("rigid body", &sys, y0);
-    let (sys, y0) = hyperbolic();
+    let (sys, y0) = hyperbolic_oscillator().into_parts();
     check_proportional("H2 oscillator", &sys, y0);
 }
 
@@ -528,11 +528,11 @@ where
 /// `e₄ = log(ŷ₁⁻¹ y(h))`, `ŷ₁ = y₀ exp(Θ̂)`; and that |est| has slope 5.
 #[test]
 fn embedded_error_estimate_is_asymptotically_exact() {
-    let (sys, y0) = heavy_top();
+    let (sys, y0) = heavy_top().into_parts();
     estimate_exactness("heavy top", &sys, y0);
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     estimate_exactness("rigid body", &sys, y0);
-    let (sys, y0) = hyperbolic();
+    let (sys, y0) = hyperbolic_oscillator().into_parts();
     estimate_exactness("H2 oscillator", &sys, y0);
 }
 
@@ -610,7 +610,7 @@ where
 /// Kutta 3 and RK4 3); and that θ(1) reproduces the step.
 #[test]
 fn dense_output_has_its_stated_order() {
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     let large = [0.4, 0.2, 0.1, 0.05, 0.025];
     let small = [0.1, 0.05, 0.025, 0.0125, 0.00625];
     check_dense("rigid body", &sys, y0, Rkmk::dopri5(), &large);
@@ -618,7 +618,7 @@ fn dense_output_has_its_stated_order() {
     check_dense("rigid body", &sys, y0, Rkmk::kutta3(), &small);
     check_dense("rigid body", &sys, y0, Rkmk::heun(), &small);
     check_dense("rigid body", &sys, y0, Rkmk::lie_euler(), &small);
-    let (sys, y0) = hyperbolic();
+    let (sys, y0) = hyperbolic_oscillator().into_parts();
     check_dense("H2 oscillator", &sys, y0, Rkmk::dopri5(), &[0.2, 0.1, 0.05, 0.025, 0.0125]);
     check_dense("H2 oscillator", &sys, y0, Rkmk::rk4(), &small);
 }
@@ -628,7 +628,7 @@ fn dense_output_has_its_stated_order() {
 /// 5 for DOPRI5, 4 for RK4 + Hermite; samples at step times equal the steps.
 #[test]
 fn saveat_samples_converge_independent_of_the_steps() {
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     let times = vec![0.37, 1.234, 2.9, 3.51];
     let refs: Vec<_> = times.iter().map(|&t| run_fixed(&sys, y0, t, 4000, Rkmk::butcher6())).collect();
     let problem = Problem::new(sys.clone(), y0, (0.0, 4.0)).unwrap();
@@ -668,14 +668,6 @@ fn saveat_samples_converge_independent_of_the_steps() {
 // Events
 // ---------------------------------------------------------------------------
 
-const I1: f64 = 1.0;
-const I3: f64 = 0.4;
-
-fn symmetric_top() -> (RigidBody, Body) {
-    let r0 = So3::exp(&Vector3::new(0.2, -0.5, 0.1));
-    (RigidBody { inertia: Vector3::new(I1, I1, I3) }, Product(r0, Rn(Vector3::new(0.6, 0.2, 1.1))))
-}
-
 /// Height of the body's first axis in space, minus 0.2.
 fn axis_height(_t: f64, y: &Body) -> f64 {
     y.0.matrix()[(2, 0)] - 0.2
@@ -683,7 +675,7 @@ fn axis_height(_t: f64, y: &Body) -> f64 {
 
 /// Exact crossing times of `axis_height` on [0, t_end]: (time, rising).
 fn exact_crossings(y0: &Body, t_end: f64) -> Vec<(f64, bool)> {
-    let g = |t: f64| axis_height(t, &symmetric_top_exact(I1, I3, y0, t));
+    let g = |t: f64| axis_height(t, &symmetric_top_exact(SYMMETRIC_TOP_I1, SYMMETRIC_TOP_I3, y0, t));
     let n = 20000;
     let mut out = Vec::new();
     for k in 0..n {
@@ -704,9 +696,9 @@ fn exact_crossings(y0: &Body, t_end: f64) -> Vec<(f64, bool)> {
 /// stops the run at the event, which becomes the last state.
 #[test]
 fn events_are_located_to_1e_10() {
-    let (sys, y0) = symmetric_top();
+    let (sys, y0) = symmetric_top().into_parts();
     let t_end = 12.0;
-    let exact = symmetric_top_exact(I1, I3, &y0, t_end);
+    let exact = symmetric_top_exact(SYMMETRIC_TOP_I1, SYMMETRIC_TOP_I3, &y0, t_end);
     let problem = Problem::new(sys, y0, (0.0, t_end)).unwrap();
     let chk = solve(&problem, &Rkmk::dopri5(), &Options::adaptive(1e-12, 1e-12).save(Save::Ends)).unwrap();
     assert!(dist(chk.last().1, &exact) <= 1e-9, "closed form vs DOPRI5: {:e}", dist(chk.last().1, &exact));
@@ -760,7 +752,7 @@ fn events_are_located_to_1e_10() {
     assert_eq!(*term.times().last().unwrap(), tl);
     assert_eq!(term.events().len(), 1);
     assert!(term.events()[0].terminal && dist(yl, &term.events()[0].y) == 0.0);
-    assert!(dist(yl, &symmetric_top_exact(I1, I3, &y0, tl)) <= 1e-9);
+    assert!(dist(yl, &symmetric_top_exact(SYMMETRIC_TOP_I1, SYMMETRIC_TOP_I3, &y0, tl)) <= 1e-9);
 }
 
 // ---------------------------------------------------------------------------
@@ -774,7 +766,7 @@ fn events_are_located_to_1e_10() {
 /// `f` at the end, dense output), including stages that do not enter `Θ`.
 #[test]
 fn a_non_finite_stage_value_is_reported_at_its_own_time() {
-    let (inner, y0) = rigid_body();
+    let (inner, y0) = rigid_body().into_parts();
     let (t0, h) = (0.25, 0.1);
     fn check<const S: usize>(m: Rkmk<S>, inner: &RigidBody, y0: &Body, t0: f64, h: f64) {
         let tab = m.tableau();
@@ -830,7 +822,7 @@ fn a_non_finite_stage_value_is_reported_at_its_own_time() {
 /// the last good state (finite, t ≤ 0.5, stop reason Failed).
 #[test]
 fn nan_in_the_vector_field_is_a_typed_error_with_the_partial_solution() {
-    let (inner, y0) = rigid_body();
+    let (inner, y0) = rigid_body().into_parts();
     let problem = Problem::new(NanAfter { inner, t_bad: 0.5 }, y0, (0.0, 2.0)).unwrap();
     for (label, res) in [
         ("fixed", solve(&problem, &Rkmk::rk4(), &Options::fixed(0.03).record_energy())),
@@ -888,7 +880,7 @@ fn step_size_collapse_and_max_steps_are_typed_errors() {
         }
         e => panic!("wrong error {e:?}"),
     }
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     let problem = Problem::new(sys, y0, (0.0, 4.0)).unwrap();
     for (label, opts) in [("fixed", Options::fixed(0.01).max_steps(10)), ("adaptive", Options::adaptive(1e-12, 1e-12).max_steps(10))] {
         let f = solve(&problem, &Rkmk::dopri5(), &opts).expect_err("max_steps");
@@ -911,7 +903,7 @@ fn step_size_collapse_and_max_steps_are_typed_errors() {
 /// rejection) and finishes; the guard is configurable.
 #[test]
 fn dexp_radius_guard_reports_instead_of_continuing() {
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     let problem = Problem::new(sys, y0, (0.0, 8.0)).unwrap();
     let f = solve(&problem, &Rkmk::rk4(), &Options::fixed(4.0)).expect_err("radius");
     eprintln!("{}", f);
@@ -936,7 +928,7 @@ fn dexp_radius_guard_reports_instead_of_continuing() {
 /// without embedded pair.
 #[test]
 fn invalid_inputs_are_typed_errors() {
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     assert!(matches!(Problem::new(sys.clone(), y0, (0.0, 0.0)), Err(SolveError::InvalidParameter { field: "t_end", .. })));
     assert!(matches!(Problem::new(sys.clone(), y0, (f64::NAN, 1.0)), Err(SolveError::InvalidParameter { field: "t0", .. })));
     assert!(matches!(Problem::new(sys.clone(), y0, (0.0, f64::INFINITY)), Err(SolveError::InvalidParameter { .. })));
@@ -977,7 +969,7 @@ fn invalid_inputs_are_typed_errors() {
 /// rigid body is O(h⁴).
 #[test]
 fn driver_bookkeeping() {
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     let fwd = solve(&Problem::new(sys.clone(), y0, (0.0, 5.0)).unwrap(), &Rkmk::dopri5(), &Options::adaptive(1e-10, 1e-10)).unwrap();
     let y5 = *fwd.last().1;
     let back = solve(&Problem::new(sys.clone(), y5, (5.0, 0.0)).unwrap(), &Rkmk::dopri5(), &Options::adaptive(1e-10, 1e-10)).unwrap();
@@ -1016,7 +1008,7 @@ fn driver_bookkeeping() {
 /// and the work counters match the method (RK4: 4 evaluations per step).
 #[test]
 fn stepper_changes_parameters_between_steps() {
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     let mut st = Stepper::new(sys.clone(), Rkmk::rk4(), 0.0, y0).unwrap();
     st.advance(1.0, 50).unwrap();
     st.system_mut().inertia = Vector3::new(2.0, 1.0, 1.5);
@@ -1042,7 +1034,7 @@ fn stepper_changes_parameters_between_steps() {
 fn engine_cost_against_hand_specialised_rk4() {
     use framedyn::lie::ProductAlgebra;
     use std::time::Instant;
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     let h = 1e-3;
     let n = 2_000_000;
     let hand = |y: &Body| -> Body {
@@ -1092,7 +1084,7 @@ fn engine_cost_against_hand_specialised_rk4() {
 #[test]
 fn per_component_tolerances_have_their_documented_meaning() {
     use framedyn::solve::Tol;
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     let c = 1024.0;
     let run = |scale: f64| {
         let sys = RigidBody { inertia: sys.inertia * scale };
@@ -1177,7 +1169,7 @@ mod alloc_count {
 /// and for 10000 steps — nothing per step.
 #[test]
 fn fixed_step_path_does_not_allocate_per_step() {
-    let (sys, y0) = heavy_top();
+    let (sys, y0) = heavy_top().into_parts();
     let mut st = Stepper::new(sys.clone(), Rkmk::rk4(), 0.0, y0).unwrap();
     let mut st5 = Stepper::new(sys.clone(), Rkmk::dopri5(), 0.0, y0).unwrap();
     let before = alloc_count::count();
@@ -1190,7 +1182,7 @@ fn fixed_step_path_does_not_allocate_per_step() {
     // splitting method (Blanes–Moan S6 on an S² gyroscope with a frame
     // coupling) allocate nothing per step either.
     let mut sti = Stepper::new(sys.clone(), framedyn::method::ImplicitMidpoint::new(), 0.0, y0).unwrap();
-    let (gyro, gy0) = super::splitting::s2_gyro(0.8, 0.4);
+    let (gyro, gy0) = framedyn::testing::s2_tilted_gyro().into_parts();
     let mut sts = Stepper::new(gyro, framedyn::method::Splitting::blanes_moan4(), 0.0, gy0).unwrap();
     let before = alloc_count::count();
     for _ in 0..1000 {
@@ -1281,7 +1273,7 @@ static DP5_WITH_OUTPUT_BRACKET: Tableau<7> = Tableau {
 #[test]
 fn fsal_only_when_the_last_stage_is_the_new_state() {
     use framedyn::lie::AlgebraVector;
-    let (sys, y0) = heavy_top();
+    let (sys, y0) = heavy_top().into_parts();
     for (m, fsal) in [(Rkmk::new(&DP5_WITH_OUTPUT_BRACKET), false), (Rkmk::dopri5(), true)] {
         assert_eq!(Method::<HeavyTop>::info(&m).fsal, fsal);
         let req = StepRequest { f_start: None, error: true, dense: false, f_end: true };

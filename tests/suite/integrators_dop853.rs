@@ -6,7 +6,6 @@ use framedyn::method::tableau::{self, DENSE_DEGREE, EXTENDED_STAGES};
 use framedyn::method::trees;
 use framedyn::method::{DexpInv, Rkmk};
 
-use super::models;
 use super::systems::*;
 use super::*;
 
@@ -189,15 +188,15 @@ fn dop853_has_order_8() {
     const FINE: [f64; 11] = [4.0, 5.0, 6.0, 7.0, 8.0, 10.0, 12.0, 14.0, 17.0, 20.0, 24.0];
     let asymptotic = (7.8, 8.2);
     let small_c8 = (7.8, 9.1);
-    let (sys, y0) = hyperbolic();
+    let (sys, y0) = hyperbolic_oscillator().into_parts();
     run("H2 oscillator", &sys, y0, 8.0, &COARSE, asymptotic);
-    let (sys, y0) = models::t2_gyro();
+    let (sys, y0) = framedyn::testing::t2_tilted_gyro().into_parts();
     run("T2 gyroscope", &sys, y0, 2.0, &MEDIUM, asymptotic);
-    let (sys, y0) = models::s2_gyro();
+    let (sys, y0) = framedyn::testing::s2_tilted_gyro().into_parts();
     run("S2 gyroscope", &sys, y0, 8.0, &FINE, small_c8);
-    let (sys, y0) = models::s3_gyro();
+    let (sys, y0) = framedyn::testing::s3_tilted_gyro().into_parts();
     run("S3 gyroscope", &sys, y0, 4.0, &MEDIUM, small_c8);
-    let (sys, y0) = heavy_top();
+    let (sys, y0) = heavy_top().into_parts();
     let heavy: Vec<f64> = PER_UNIT_8.iter().map(|&k| k as f64).collect();
     run("heavy top", &sys, y0, 4.0, &heavy, small_c8);
 }
@@ -212,7 +211,7 @@ fn dop853_has_order_8() {
 /// Also: only `ad²` gives order ≤ 5.3 (measured 4.997).
 #[test]
 fn dop853_needs_dexp_inv_to_ad6() {
-    let (sys, y0) = heavy_top();
+    let (sys, y0) = heavy_top().into_parts();
     let r = reference(&sys, y0, 2.0);
     let (s4, k4, _) = order8_fit("heavy top", &sys, y0, 2.0, Rkmk::dop853().with_dexp_inv(DexpInv::Series(4)), &r, &NS_8);
     let (s2, k2, _) = order8_fit("heavy top", &sys, y0, 2.0, Rkmk::dop853().with_dexp_inv(DexpInv::Series(2)), &r, &NS_8);
@@ -243,23 +242,23 @@ fn dop853_needs_dexp_inv_to_ad6() {
 fn adaptive_dop853_meets_its_tolerance() {
     let m = Rkmk::dop853();
     let mut all = Vec::new();
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     all.extend(adaptive_errors_with("rigid body", &sys, y0, 10.0, 4..=10, &m));
     let (sys, y0) = gl_flow();
     all.extend(adaptive_errors_with("GL(2) flow", &sys, y0, 10.0, 4..=10, &m));
-    let (sys, y0) = hyperbolic();
+    let (sys, y0) = hyperbolic_oscillator().into_parts();
     all.extend(adaptive_errors_with("H2 oscillator", &sys, y0, 10.0, 4..=10, &m));
-    let (sys, y0) = models::s2_gyro();
+    let (sys, y0) = framedyn::testing::s2_tilted_gyro().into_parts();
     all.extend(adaptive_errors_with("S2 gyroscope", &sys, y0, 10.0, 5..=10, &m));
-    let (sys, y0) = models::h2_gyro();
+    let (sys, y0) = framedyn::testing::h2_tilted_gyro().into_parts();
     all.extend(adaptive_errors_with("H2 gyroscope", &sys, y0, 10.0, 5..=10, &m));
-    let (sys, y0) = models::t2_gyro();
+    let (sys, y0) = framedyn::testing::t2_tilted_gyro().into_parts();
     all.extend(adaptive_errors_with("T2 gyroscope", &sys, y0, 10.0, 5..=10, &m));
-    let (sys, y0) = models::s3_gyro();
+    let (sys, y0) = framedyn::testing::s3_tilted_gyro().into_parts();
     all.extend(adaptive_errors_with("S3 gyroscope", &sys, y0, 10.0, 5..=10, &m));
-    let (sys, y0) = models::s2_affine();
+    let (sys, y0) = framedyn::testing::s2_tilted_affine().into_parts();
     all.extend(adaptive_errors_with("S2 affine", &sys, y0, 10.0, 5..=10, &m));
-    let (sys, y0) = models::h2_incompressible();
+    let (sys, y0) = framedyn::testing::h2_tilted_incompressible().into_parts();
     all.extend(adaptive_errors_with("H2 incompressible", &sys, y0, 10.0, 5..=10, &m));
     let worst = all.iter().map(|x| x.1).fold(0.0, f64::max);
     eprintln!("DOP853: worst global error {worst:.2} × tol");
@@ -275,7 +274,7 @@ fn adaptive_dop853_meets_its_tolerance() {
 #[test]
 fn dop853_estimate_has_order_8() {
     use framedyn::lie::AlgebraVector;
-    let (sys, y0) = heavy_top();
+    let (sys, y0) = heavy_top().into_parts();
     let hs = [0.2, 0.1, 0.05, 0.025, 0.0125];
     let mut est = Vec::new();
     let mut compared = 0;
@@ -305,9 +304,9 @@ fn dop853_estimate_has_order_8() {
 #[test]
 fn dop853_dense_output_has_order_7() {
     let hs = [0.5, 1.0 / 3.0, 0.25, 0.2, 1.0 / 6.0, 0.125];
-    let (sys, y0) = rigid_body();
+    let (sys, y0) = rigid_body().into_parts();
     check_dense("rigid body", &sys, y0, Rkmk::dop853(), &hs);
-    let (sys, y0) = hyperbolic();
+    let (sys, y0) = hyperbolic_oscillator().into_parts();
     check_dense("H2 oscillator", &sys, y0, Rkmk::dop853(), &hs);
 }
 
@@ -317,7 +316,7 @@ fn dop853_dense_output_has_order_7() {
 /// and the located states satisfy g = 0 to 1e-11.
 #[test]
 fn dop853_events_are_located_to_1e_10() {
-    let (sys, y0) = symmetric_top();
+    let (sys, y0) = symmetric_top().into_parts();
     let t_end = 12.0;
     let problem = Problem::new(sys, y0, (0.0, t_end)).unwrap();
     let crossings = exact_crossings(&y0, t_end);

@@ -1,16 +1,21 @@
-//! The integrators on the physical models of `dynamics` (merged from main):
-//! gyroscopes on S², H², T² and S³, a point in the S² Bertrand oscillator.
+//! The integrators on the physical models of `dynamics`: the tilted
+//! gyroscopes on S², H², T² and S³ and the affine, incompressible and Weyl
+//! bodies of `framedyn::testing`, a point in the S² Bertrand oscillator.
 //! Measures orders, dexp⁻¹ truncation, adaptive accuracy, an exact closed
 //! orbit, and the passage through the pole of S².
 
 use framedyn::body::{Gyroscope, Point};
-use framedyn::dynamics::{Gyroscope2Model, Gyroscope3Model, PointModel, System};
-use framedyn::lie::{LieGroup, So3};
-use framedyn::manifold::{Hyperbolic2, Manifold, Sphere2, Sphere3, Torus2};
+use framedyn::dynamics::{Gyroscope2Model, PointModel, System};
+use framedyn::lie::LieGroup;
+use framedyn::manifold::{Manifold, Sphere2};
 use framedyn::method::Rkmk;
-use framedyn::potential::{Centre, CosineFamily, Oscillator, Potential, Scalar};
+use framedyn::potential::{Centre, CosineFamily, Oscillator};
 use framedyn::solve::{solve, Options, Problem, Save};
-use nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};
+use framedyn::testing::{
+    h2_tilted_gyro, h2_tilted_incompressible, s2_tilted_affine, s2_tilted_gyro, s2_tilted_gyro_with, s3_tilted_gyro, s3_tilted_weyl,
+    t2_tilted_gyro,
+};
+use nalgebra::{Vector2, Vector3};
 
 /// A 2^{1/4} ladder for the fifth- and sixth-order fits on the models: on the
 /// S² gyroscope Butcher 6 is pre-asymptotic up to n ≈ 56 (error ratios 98,
@@ -31,92 +36,19 @@ use super::{
     NS_LOW,
 };
 
-/// `V = a·x[axis]/R + b·e₁[axis]`: a tilt of the position plus a frame
-/// coupling (a dipole `e₁` in a uniform field), so that the internal
-/// rotation and the translation exchange energy.
-#[derive(Debug, Clone, Copy)]
-pub struct Axial {
-    pub a: f64,
-    pub b: f64,
-    pub radius: f64,
-    pub axis: usize,
-}
-
-impl<const N: usize, const E: usize> Potential<N, E> for Axial {
-    fn uses_frame(&self) -> bool {
-        self.b != 0.0
-    }
-    fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, _m: &SMatrix<f64, E, E>) -> D {
-        x[self.axis] * (self.a / self.radius) + e[(self.axis, 0)] * self.b
-    }
-}
-
-type S2Gyro = Gyroscope2Model<Sphere2, Axial>;
-type H2Gyro = Gyroscope2Model<Hyperbolic2, Axial>;
-type T2Gyro = Gyroscope2Model<Torus2, Axial>;
-type S3Gyro = Gyroscope3Model<Sphere3, Axial>;
-
-/// A gyroscope on S² (R = 1, m = 1, I = 0.3) in general position, with a tilt
-/// and a frame coupling.
-pub(super) fn s2_gyro() -> (S2Gyro, <S2Gyro as System>::State) {
-    let s2 = Sphere2::new(1.0).unwrap();
-    let m = Gyroscope2Model::new(s2, Gyroscope::<2>::isotropic(1.0, 0.3).unwrap(), Axial { a: 0.8, b: 0.4, radius: 1.0, axis: 2 })
-        .unwrap();
-    let x = Vector2::new(0.9, 0.3);
-    let (p, v) = (s2.embed(&x), s2.embed_tangent(&x, &Vector2::new(0.5, 0.7)));
-    let y = m.state_at(&p, &v, 0.4, 0.6).unwrap();
-    (m, y)
-}
-
-/// A gyroscope on H² (R = 1) confined by `a·cosh r`, with a frame coupling.
-pub(super) fn h2_gyro() -> (H2Gyro, <H2Gyro as System>::State) {
-    let h2 = Hyperbolic2::new(1.0).unwrap();
-    let m = Gyroscope2Model::new(h2, Gyroscope::<2>::isotropic(1.0, 0.3).unwrap(), Axial { a: 0.8, b: 0.3, radius: 1.0, axis: 2 })
-        .unwrap();
-    let x = Vector2::new(0.7, 0.3);
-    let (p, v) = (h2.embed(&x), h2.embed_tangent(&x, &Vector2::new(0.4, 0.9)));
-    let y = m.state_at(&p, &v, 0.4, 0.6).unwrap();
-    (m, y)
-}
-
-/// A gyroscope on the torus T²(L = 2, R = 0.7) with a tilt along z and a
-/// frame coupling.
-pub(super) fn t2_gyro() -> (T2Gyro, <T2Gyro as System>::State) {
-    let t2 = Torus2::new(2.0, 0.7).unwrap();
-    let m = Gyroscope2Model::new(t2, Gyroscope::<2>::isotropic(1.0, 0.3).unwrap(), Axial { a: 0.8, b: 0.3, radius: 0.7, axis: 2 })
-        .unwrap();
-    let x = Vector2::new(0.6, 0.2);
-    let (p, v) = (t2.embed(&x), t2.embed_tangent(&x, &Vector2::new(0.9, 0.4)));
-    let y = m.state_at(&p, &v, 0.4, 0.6).unwrap();
-    (m, y)
-}
-
-/// A gyroscope on S³ (R = 1) with anisotropic inertia J = diag(0.2, 0.35, 0.5),
-/// a tilt and a frame coupling.
-pub(super) fn s3_gyro() -> (S3Gyro, <S3Gyro as System>::State) {
-    let s3 = Sphere3::new(1.0).unwrap();
-    let body = Gyroscope::<3>::new(1.0, Matrix3::from_diagonal(&Vector3::new(0.2, 0.35, 0.5))).unwrap();
-    let m = Gyroscope3Model::new(s3, body, Axial { a: 0.8, b: 0.3, radius: 1.0, axis: 1 }).unwrap();
-    let x = Vector3::new(0.5, -0.3, 0.4);
-    let (p, v) = (s3.embed(&x), s3.embed_tangent(&x, &Vector3::new(0.3, 0.5, -0.4)));
-    let rho = So3::exp(&Vector3::new(0.2, -0.1, 0.3));
-    let y = m.state_at(&p, &v, &rho, &Vector3::new(0.4, -0.3, 0.5)).unwrap();
-    (m, y)
-}
-
 /// Measured global orders (±0.2) of every fixed-step method on the
 /// gyroscopes on S² (state SO(3) × SO(2) × ℝ³), H² (SO⁺(1,2) × SO(2) × ℝ³),
 /// T² (ℝ³ × SO(2) × ℝ³) and S³ (SO(4) × SO(3) × ℝ⁶), as in `orders_rigid_body`.
 #[test]
 fn orders_on_the_gyroscope_models() {
     let l = (&NS_EULER[..], &NS_LOW[..], &NS_HIGH_FINE[..]);
-    let (sys, y0) = s2_gyro();
+    let (sys, y0) = s2_tilted_gyro().into_parts();
     orders_on_with("S2 gyroscope", &sys, y0, 4.0, l);
-    let (sys, y0) = h2_gyro();
+    let (sys, y0) = h2_tilted_gyro().into_parts();
     orders_on_with("H2 gyroscope", &sys, y0, 4.0, l);
-    let (sys, y0) = t2_gyro();
+    let (sys, y0) = t2_tilted_gyro().into_parts();
     orders_on_with("T2 gyroscope", &sys, y0, 4.0, (&NS_EULER, &NS_LOW, &NS_HIGH_T2));
-    let (sys, y0) = s3_gyro();
+    let (sys, y0) = s3_tilted_gyro().into_parts();
     orders_on_with("S3 gyroscope", &sys, y0, 4.0, l);
 }
 
@@ -128,11 +60,11 @@ fn orders_on_the_gyroscope_models() {
 /// per doubling still 38–48 at n = 320, slope 5.50 over n = 40 … 226).
 #[test]
 fn truncation_is_detected_on_the_gyroscope_models() {
-    let (sys, y0) = s2_gyro();
+    let (sys, y0) = s2_tilted_gyro().into_parts();
     truncation_on_with("S2 gyroscope", &sys, y0, 4.0, &NS_TRUNC_LOW, Some(&NS_B6_TRUNC));
-    let (sys, y0) = h2_gyro();
+    let (sys, y0) = h2_tilted_gyro().into_parts();
     truncation_on_with("H2 gyroscope", &sys, y0, 4.0, &NS_TRUNC_LOW, None);
-    let (sys, y0) = s3_gyro();
+    let (sys, y0) = s3_tilted_gyro().into_parts();
     truncation_on_with("S3 gyroscope", &sys, y0, 4.0, &NS_TRUNC_LOW, None);
 }
 
@@ -141,7 +73,7 @@ fn truncation_is_detected_on_the_gyroscope_models() {
 /// perturbations ≈ 10× over T = 10 (asserted ≤ 15: the premise of the bound).
 #[test]
 fn adaptive_meets_its_tolerance_on_the_s3_gyroscope() {
-    let (sys, y0) = s3_gyro();
+    let (sys, y0) = s3_tilted_gyro().into_parts();
     let amp = amplification("S3 gyroscope", &sys, y0, 10.0);
     assert!(amp <= 15.0, "premise: amplification {amp}");
     for (tol, err) in adaptive_errors("S3 gyroscope", &sys, y0, 10.0, 4..=10) {
@@ -158,14 +90,14 @@ fn adaptive_meets_its_tolerance_on_the_s3_gyroscope() {
 /// tol = 1e-5 … 1e-10.
 #[test]
 fn adaptive_error_is_proportional_to_the_tolerance_on_the_gyroscope_models() {
-    let (sys, y0) = s2_gyro();
+    let (sys, y0) = s2_tilted_gyro().into_parts();
     amplification("S2 gyroscope", &sys, y0, 10.0);
     super::estimate_exactness("S2 gyroscope", &sys, y0);
     check_proportional("S2 gyroscope", &sys, y0);
-    let (sys, y0) = h2_gyro();
+    let (sys, y0) = h2_tilted_gyro().into_parts();
     amplification("H2 gyroscope", &sys, y0, 10.0);
     check_proportional("H2 gyroscope", &sys, y0);
-    let (sys, y0) = t2_gyro();
+    let (sys, y0) = t2_tilted_gyro().into_parts();
     amplification("T2 gyroscope", &sys, y0, 10.0);
     super::estimate_exactness("T2 gyroscope", &sys, y0);
     check_proportional("T2 gyroscope", &sys, y0);
@@ -277,15 +209,6 @@ fn passage_through_the_pole_of_s2() {
 // Affine and constrained affine bodies
 // ---------------------------------------------------------------------------
 
-use framedyn::body::{Affine, Incompressible, Weyl};
-use framedyn::dynamics::affine::AffineModel;
-use framedyn::dynamics::constrained::{IncompressibleModel, WeylModel};
-use framedyn::dynamics::point::bundle_element_at;
-use framedyn::potential::{Elastic, Sum};
-use nalgebra::Matrix2;
-
-type Pot2 = Sum<Elastic, Axial>;
-
 /// Ladders for the affine models, whose internal (elastic) motion keeps the
 /// fits pre-asymptotic longer: DOPRI5's error ratio per 2^{1/4} is still
 /// rising (1.99 → 2.33) at n = 56 … 160 on S², and RK4 without its ad² term
@@ -296,52 +219,6 @@ const NS_HIGH_AFFINE: [usize; 7] = [226, 269, 320, 381, 453, 538, 640];
 const NS_EULER_AFFINE: [usize; 5] = [640, 1280, 2560, 5120, 10240];
 const NS_TRUNC_AFFINE: [usize; 5] = [1280, 1810, 2560, 3620, 5120];
 
-fn pot2() -> Pot2 {
-    Sum::new(Elastic::new(0.8).unwrap(), Axial { a: 0.4, b: 0.3, radius: 1.0, axis: 2 })
-}
-
-/// An affinely-rigid body (ρ ∈ GL⁺(2), hypermomentum in gl(2)) on S² in the
-/// elastic potential (a131) plus a tilt and a frame coupling.
-pub(super) fn s2_affine() -> (AffineModel<Sphere2, Pot2, 2, 3>, <AffineModel<Sphere2, Pot2, 2, 3> as System>::State) {
-    let s2 = Sphere2::new(1.0).unwrap();
-    let m = AffineModel::new(s2, Affine::new(1.0, Matrix2::new(0.3, 0.07, 0.07, 0.15)).unwrap(), pot2()).unwrap();
-    let g = bundle_element_at(&s2, &s2.embed(&Vector2::new(0.8, 0.2))).unwrap();
-    let y = m
-        .state(&g, &Matrix2::new(1.1, 0.3, -0.2, 0.8), &Vector2::new(0.6, -0.9), &Matrix2::new(0.4, -0.6, 0.5, 0.2))
-        .unwrap();
-    (m, y)
-}
-
-/// An incompressible body (ρ ∈ SL(2)) on H² in the elastic potential and
-/// the tilt `a·cosh r`, without frame coupling: on the hyperboloid the
-/// z-components of tangent vectors grow like sinh r, and with the coupling
-/// `b·e₁ᶻ` (b = 0.3) the body runs away near t = 5.4 (|ξ| ≈ 3300, stopped by
-/// the dexp⁻¹ radius guard at h = 2.5e-3).
-pub(super) fn h2_incompressible() -> (IncompressibleModel<Hyperbolic2, Pot2, 2, 3>, <IncompressibleModel<Hyperbolic2, Pot2, 2, 3> as System>::State) {
-    let h2 = Hyperbolic2::new(1.0).unwrap();
-    let pot = Sum::new(Elastic::new(0.8).unwrap(), Axial { a: 0.4, b: 0.0, radius: 1.0, axis: 2 });
-    let m = IncompressibleModel::new(h2, Incompressible::new(1.0, Matrix2::new(0.3, 0.07, 0.07, 0.15)).unwrap(), pot).unwrap();
-    let g = bundle_element_at(&h2, &h2.embed(&Vector2::new(0.7, -0.4))).unwrap();
-    let rho: Matrix2<f64> = Matrix2::new(1.1, 0.3, -0.2, 0.8);
-    let rho = rho / rho.determinant().sqrt();
-    let w = Matrix2::new(0.3, -0.6, 0.5, -0.3);
-    let y = m.state(&g, &rho, &Vector2::new(0.6, -0.9), &(rho * w)).unwrap();
-    (m, y)
-}
-
-/// A Weyl body (ρ ∈ CO⁺(3): rotation and dilatation) on S³ with a tilt and
-/// a frame coupling.
-pub(super) fn s3_weyl() -> (WeylModel<Sphere3, Axial, 3, 4>, <WeylModel<Sphere3, Axial, 3, 4> as System>::State) {
-    let s3 = Sphere3::new(1.0).unwrap();
-    let j3 = Matrix3::new(0.3, 0.05, 0.0, 0.05, 0.2, 0.04, 0.0, 0.04, 0.25);
-    let m = WeylModel::new(s3, Weyl::new(1.2, j3).unwrap(), Axial { a: 0.6, b: 0.3, radius: 1.0, axis: 1 }).unwrap();
-    let g = bundle_element_at(&s3, &s3.embed(&Vector3::new(0.5, -0.3, 0.9))).unwrap();
-    let rho = *So3::exp(&Vector3::new(0.3, -0.5, 0.2)).matrix() * 1.1;
-    let om = Matrix3::new(0.2, -0.7, 0.4, 0.7, 0.2, -0.5, -0.4, 0.5, 0.2);
-    let y = m.state(&g, &rho, &Vector3::new(0.6, -0.9, 0.4), &(rho * om)).unwrap();
-    (m, y)
-}
-
 /// Measured global orders (±0.2) of every fixed-step method on the affine
 /// body on S² (SO(3) × GL⁺(2) × ℝ² × gl(2)), the incompressible body on H²
 /// (SO⁺(1,2) × SL(2) × ℝ² × sl(2)) and the Weyl body on S³
@@ -349,11 +226,11 @@ pub(super) fn s3_weyl() -> (WeylModel<Sphere3, Axial, 3, 4>, <WeylModel<Sphere3,
 #[test]
 fn orders_on_the_affine_models() {
     let l = (&NS_EULER_AFFINE[..], &NS_LOW[..], &NS_HIGH_AFFINE[..]);
-    let (sys, y0) = s2_affine();
+    let (sys, y0) = s2_tilted_affine().into_parts();
     orders_on_with("S2 affine", &sys, y0, 4.0, l);
-    let (sys, y0) = h2_incompressible();
+    let (sys, y0) = h2_tilted_incompressible().into_parts();
     orders_on_with("H2 incompressible", &sys, y0, 4.0, l);
-    let (sys, y0) = s3_weyl();
+    let (sys, y0) = s3_tilted_weyl().into_parts();
     orders_on_with("S3 Weyl", &sys, y0, 4.0, (&NS_EULER_AFFINE, &NS_LOW, &NS_HIGH_FINE));
 }
 
@@ -361,11 +238,11 @@ fn orders_on_the_affine_models() {
 /// (orders 2, 3, 3 and the two RK4 commutators; no ad⁴ check).
 #[test]
 fn truncation_is_detected_on_the_affine_models() {
-    let (sys, y0) = s2_affine();
+    let (sys, y0) = s2_tilted_affine().into_parts();
     truncation_on_with("S2 affine", &sys, y0, 4.0, &NS_TRUNC_AFFINE, None);
-    let (sys, y0) = h2_incompressible();
+    let (sys, y0) = h2_tilted_incompressible().into_parts();
     truncation_on_with("H2 incompressible", &sys, y0, 4.0, &NS_TRUNC_AFFINE, None);
-    let (sys, y0) = s3_weyl();
+    let (sys, y0) = s3_tilted_weyl().into_parts();
     truncation_on_with("S3 Weyl", &sys, y0, 4.0, &NS_TRUNC_AFFINE, None);
 }
 
@@ -381,16 +258,16 @@ fn truncation_is_detected_on_the_affine_models() {
 #[test]
 fn adaptive_on_the_affine_models() {
     let mut all = Vec::new();
-    let (sys, y0) = s2_affine();
+    let (sys, y0) = s2_tilted_affine().into_parts();
     amplification("S2 affine", &sys, y0, 10.0);
     all.extend(adaptive_errors("S2 affine", &sys, y0, 10.0, 5..=10));
-    let (sys, y0) = h2_incompressible();
+    let (sys, y0) = h2_tilted_incompressible().into_parts();
     amplification("H2 incompressible", &sys, y0, 10.0);
     all.extend(adaptive_errors("H2 incompressible", &sys, y0, 10.0, 5..=10));
     for (tol, err) in all {
         assert!(err <= 10.0, "tol {tol:e}: global error {err} × tol");
     }
-    let (sys, y0) = s3_weyl();
+    let (sys, y0) = s3_tilted_weyl().into_parts();
     amplification("S3 Weyl", &sys, y0, 10.0);
     super::estimate_exactness("S3 Weyl", &sys, y0);
     adaptive_errors("S3 Weyl", &sys, y0, 10.0, 5..=10);
@@ -439,22 +316,20 @@ fn the_unrolled_rk4_kernel_is_the_general_engine_bit_for_bit() {
         assert!(abelian || matches!(a, Err(StepFault::DexpRadius { .. })), "{label}: h = {big} must trip the radius guard, got {a:?}");
         assert_eq!(a, b, "{label}: the same outcome at h = {big}");
     }
-    let (sys, y0) = s2_gyro();
+    let (sys, y0) = s2_tilted_gyro().into_parts();
     check("S2 gyroscope", &sys, y0, false);
-    let s2 = Sphere2::new(1.0).unwrap();
-    let free = Gyroscope2Model::new(s2, Gyroscope::<2>::isotropic(1.0, 0.3).unwrap(), Axial { a: 0.8, b: 0.0, radius: 1.0, axis: 2 })
-        .unwrap();
+    let free = s2_tilted_gyro_with(0.8, 0.0).unwrap().system;
     check("S2 gyroscope, V(x)", &free, y0, false);
-    let (sys, y0) = h2_gyro();
+    let (sys, y0) = h2_tilted_gyro().into_parts();
     check("H2 gyroscope", &sys, y0, false);
-    let (sys, y0) = t2_gyro();
+    let (sys, y0) = t2_tilted_gyro().into_parts();
     check("T2 gyroscope", &sys, y0, true);
-    let (sys, y0) = s3_gyro();
+    let (sys, y0) = s3_tilted_gyro().into_parts();
     check("S3 gyroscope", &sys, y0, false);
-    let (sys, y0) = s2_affine();
+    let (sys, y0) = s2_tilted_affine().into_parts();
     check("S2 affine", &sys, y0, false);
-    let (sys, y0) = h2_incompressible();
+    let (sys, y0) = h2_tilted_incompressible().into_parts();
     check("H2 incompressible", &sys, y0, false);
-    let (sys, y0) = s3_weyl();
+    let (sys, y0) = s3_tilted_weyl().into_parts();
     check("S3 Weyl", &sys, y0, false);
 }

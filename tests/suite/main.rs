@@ -23,6 +23,7 @@ mod sphere;
 mod sphere3;
 mod spheroid;
 mod splitting;
+mod testing;
 mod stability;
 mod implicit;
 mod baselines;

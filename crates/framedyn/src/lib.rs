@@ -24,7 +24,9 @@
 //!   adaptive embedded pair, dense output, events) and the problem → method →
 //!   solution driver;
 //! - [`potential`]: potentials `V(x, e)` written once, generic over dual
-//!   numbers, so forces and torques come by automatic differentiation.
+//!   numbers, so forces and torques come by automatic differentiation;
+//! - [`testing`]: the reference problems of the benches, the measurement
+//!   examples and the tests, each defined once with its parameters.
 #![deny(missing_docs)]
 #![deny(unsafe_code)]
 
@@ -39,6 +41,7 @@ pub mod method;
 pub mod potential;
 pub mod scenes;
 pub mod solve;
+pub mod testing;
 
 pub use error::{Error, Result};
 
