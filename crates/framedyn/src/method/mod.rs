@@ -89,7 +89,7 @@ pub type Alg<S> = <<S as System>::State as LieGroup>::Algebra;
 /// Static properties of a method.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MethodInfo {
-    /// Name, e.g. `"RKMK4"`.
+    /// The display name (from the [`registry`]).
     pub name: &'static str,
     /// Order `p` of the propagated solution.
     pub order: u32,
