@@ -15,7 +15,7 @@ use framedyn::dynamics::affine::AffineModel;
 use framedyn::dynamics::constrained::{IncompressibleModel, WeylModel};
 use framedyn::dynamics::{Gyroscope2Model, Gyroscope3Model, PointModel};
 use framedyn::manifold::{Hyperbolic2, Sphere2, Sphere3, Torus2};
-use framedyn::potential::{Centre, Elastic, Free, Oscillator, Potential, Scalar, Sum};
+use framedyn::potential::{Centre, Elastic, Free, Oscillator, Sum};
 use framedyn::testing::Axial;
 use framedyn::Error;
 use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};

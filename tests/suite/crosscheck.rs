@@ -18,7 +18,7 @@ use framedyn::coords::*;
 use framedyn::dynamics::{Gyroscope2Model, Gyroscope3Model, PointModel, System};
 use framedyn::lie::So3;
 use framedyn::manifold::{Hyperbolic2, Sphere2, Sphere3, Torus2};
-use framedyn::potential::{Centre, CosineFamily, Free, Oscillator, Potential, Scalar, Sum};
+use framedyn::potential::{Centre, CosineFamily, Free, Oscillator, Potential, Sum};
 use framedyn::testing::Axial;
 use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};
 use proptest::prelude::*;

@@ -13,7 +13,7 @@ use framedyn::dynamics::{
 };
 use framedyn::lie::{LieGroup, Product, ProductAlgebra, Rn, So12, So2, So3, So4};
 use framedyn::manifold::{Hyperbolic2, Manifold, Sphere2, Sphere3, Torus2};
-use framedyn::potential::{Free, Potential, Scalar};
+use framedyn::potential::{Free, Potential};
 use framedyn::testing::Axial;
 use framedyn::Error;
 use nalgebra::{
