@@ -18,7 +18,7 @@
 //! - [`trees`]: rooted trees and order conditions for checking tableaux.
 //!
 //! - [`Splitting`]: symplectic splitting with exact free flows for the
-//!   systems that are [`Splittable`] (gyroscopes and points on S², H², S³);
+//!   systems that are [`Splittable`](crate::dynamics::Splittable) (gyroscopes and points on S², H², S³);
 //! - [`ImplicitMidpoint`]: the symmetric implicit Lie midpoint rule for any
 //!   system (Newton with a faer LU);
 //! - [`baseline`]: classical RK4 / DOPRI5 on the paper's chart equations;
