@@ -17,7 +17,7 @@ enum Source {
     Json(Arc<str>),
 }
 
-/// A scene: the whole description of a simulation (see the [module docs](self)).
+/// A scene: the whole description of a simulation (see the [module docs](crate::scenes)).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
@@ -170,7 +170,7 @@ impl Scene {
     }
 
     /// [`Self::build_with_user_potential`], with the user's own gradient if
-    /// [`UserFunctions::gradient`] is given ([`UserGradientFn`]: `∂V/∂x` and
+    /// [`UserFunctions::gradient`] is given ([`UserGradientFn`](crate::scenes::UserGradientFn): `∂V/∂x` and
     /// `∂V/∂e` in the same layouts as `x` and `e`) instead of finite
     /// differences: one call of each function per evaluation. The gradient
     /// is trusted as it is.
