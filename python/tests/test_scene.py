@@ -231,3 +231,11 @@ def test_random_embedding_states(p, v, R, speed):
     np.testing.assert_allclose(np.linalg.norm(sol.position, axis=1), R, rtol=1e-12)
     # A free point moves on a great circle at constant speed.
     np.testing.assert_allclose(np.linalg.norm(sol.velocity, axis=1), speed, atol=1e-9)
+
+
+def test_numbers_cross_json_exactly():
+    # serde_json's default float parser can be one ulp off; scenes parse
+    # every number to the nearest f64 (as Python and TOML do).
+    for v in (0.9186334105401731, 0.1 + 0.2, 2.0**-1074 * 3, 1.7976931348623157e308 / 3):
+        s = fd.Scene.example("s2-gyroscope-pole").with_params({"initial.r": v})
+        assert s.to_dict()["initial"]["r"] == v
