@@ -119,9 +119,11 @@
 
 mod build;
 mod chart;
+mod ensemble;
 pub mod error;
 mod events;
 mod examples;
+mod fields;
 mod initial;
 mod locate;
 mod manifolds;
@@ -135,7 +137,9 @@ pub mod spec;
 mod summary;
 
 pub use error::{Location, RunError, SceneError};
+pub use ensemble::{run_ensemble, Ensemble, EnsembleOptions, Keep, MemberOutcome, MemberStatus, Table};
 pub use examples::{example, DEFAULT_SCENE, EXAMPLES};
+pub use fields::FieldPath;
 pub use plan::DEFAULT_SCENE_MAX_STEPS;
 pub use potential::{AngularSeries, Potential2, Potential3, SeparableSeries, Series, UserFunctions, UserGradientFn, UserPotential, UserPotentialFn};
 pub use scene::Scene;

@@ -1,0 +1,403 @@
+//! Ensembles: one base scene and a [`Table`] of `N` members (columns named
+//! by dotted scene fields, [`FieldPath`]), run in parallel into one columnar
+//! [`Ensemble`] — the typed API under Python's `solve_batch(scene, table)`
+//! and the CLI's `sweep`.
+//!
+//! The table is validated once (names, equal lengths, finite values); each
+//! member is the base scene with its row applied, built and run exactly as
+//! [`Scene::build`] and [`Simulation::run`] would run it alone (the same
+//! driver, so a member's records equal those of the single run bit for
+//! bit). A member that cannot be built or whose integration fails is
+//! reported on that member only ([`MemberStatus`], with its message and,
+//! for a failed run, the records up to the failure); the others are not
+//! affected.
+//!
+//! ```
+//! use framedyn::scenes::{example, run_ensemble, EnsembleOptions, Keep, MemberStatus, Table, DEFAULT_SCENE};
+//! use std::sync::atomic::AtomicBool;
+//!
+//! let base = example(DEFAULT_SCENE)?;
+//! let table = Table::new([("initial.r", vec![0.5, 0.6, 0.7]), ("initial.spin", vec![0.0, 0.02, 0.04])])?;
+//! let opts = EnsembleOptions { keep: Keep::Final, ..Default::default() };
+//! let out = run_ensemble(&base, &table, &opts, None, &AtomicBool::new(false), &|_| {})?;
+//! assert_eq!(out.len(), 3);
+//! assert!(out.members.iter().all(|m| m.status == MemberStatus::Finished));
+//! assert_eq!(out.records(1).len(), out.columns.len()); // one record: the final state
+//! # Ok::<(), framedyn::scenes::SceneError>(())
+//! ```
+
+use std::io;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+use rayon::prelude::*;
+
+use super::error::{RunError, SceneError};
+use super::fields::FieldPath;
+use super::potential::UserFunctions;
+use super::scene::Scene;
+use super::sink::{Column, EventHit, RecordSink};
+use super::summary::{RunSummary, SceneStop};
+
+/// The members of an ensemble: named columns of equal length `N`, each a
+/// numeric scene field by dotted path.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Table {
+    len: usize,
+    columns: Vec<(FieldPath, Vec<f64>)>,
+}
+
+impl Table {
+    /// A table from `(path, values)` columns. Fails, naming the column, for
+    /// no columns, zero members, an unknown or repeated path, unequal
+    /// lengths, or a non-finite value (naming the first such member).
+    pub fn new<S: AsRef<str>>(columns: impl IntoIterator<Item = (S, Vec<f64>)>) -> Result<Table, SceneError> {
+        let mut out: Vec<(FieldPath, Vec<f64>)> = Vec::new();
+        for (name, values) in columns {
+            let name = name.as_ref();
+            let path = FieldPath::parse(name)?;
+            if out.iter().any(|(p, _)| p.as_str() == name) {
+                return Err(SceneError::invalid(format!("table column `{name}`"), "(repeated)", "each column may appear once"));
+            }
+            if let Some((first, v)) = out.first() {
+                if values.len() != v.len() {
+                    return Err(SceneError::invalid(
+                        format!("table column `{name}`"),
+                        format!("{} members", values.len()),
+                        format!("every column must have the length of `{first}` ({} members)", v.len()),
+                    ));
+                }
+            }
+            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                return Err(SceneError::invalid(format!("table column `{name}`, member {i}"), values[i], "must be a finite number"));
+            }
+            out.push((path, values));
+        }
+        let len = match out.first() {
+            None => return Err(SceneError::invalid("table", "(no columns)", "at least one column (a dotted scene field such as `initial.r`)")),
+            Some((_, v)) => v.len(),
+        };
+        if len == 0 {
+            return Err(SceneError::invalid("table", "(0 members)", "at least one member (columns of length ≥ 1)"));
+        }
+        Ok(Table { len, columns: out })
+    }
+
+    /// The number of members `N`.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Always false (a table has at least one member).
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The column names, in order.
+    pub fn names(&self) -> impl Iterator<Item = &str> {
+        self.columns.iter().map(|(p, _)| p.as_str())
+    }
+
+    /// The values of the column `name`.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        self.columns.iter().find(|(p, _)| p.as_str() == name).map(|(_, v)| v.as_slice())
+    }
+
+    /// Member `i`: the base scene with row `i` applied (not yet validated).
+    /// Errors name the column and the member.
+    pub fn member(&self, base: &Scene, i: usize) -> Result<Scene, SceneError> {
+        let mut scene = base.clone();
+        for (path, values) in &self.columns {
+            path.apply(&mut scene, values[i]).map_err(|e| at_member(e, i))?;
+        }
+        Ok(scene)
+    }
+
+    /// The column a build error of member `i` comes from, if a column set
+    /// that field.
+    fn blame(&self, err: &SceneError) -> Option<&str> {
+        let field = err.path()?.replace('[', ".").replace(']', "");
+        self.names().find(|n| n.replace('[', ".").replace(']', "") == field)
+    }
+}
+
+/// `err` with ` (member i)` appended to its field path.
+fn at_member(err: SceneError, i: usize) -> SceneError {
+    match err {
+        SceneError::Invalid { path, value, allowed, location } => SceneError::Invalid { path: format!("{path} (member {i})"), value, allowed, location },
+        SceneError::Parse { format, path, message, location } => SceneError::Parse { format, path: format!("{path} (member {i})"), message, location },
+        other => other,
+    }
+}
+
+/// What an ensemble keeps of each member's run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Keep {
+    /// Every record the scene's `[output]` asks for.
+    #[default]
+    All,
+    /// `k ≥ 2` equally spaced records including both ends (replaces the
+    /// scene's `every`/`times`/`samples`).
+    Samples(u64),
+    /// The final record only (and the summary).
+    Final,
+}
+
+/// How an ensemble runs.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct EnsembleOptions {
+    /// What to keep of each member.
+    pub keep: Keep,
+    /// Worker threads (`None`: rayon's global pool, one per core). At most
+    /// [`EnsembleOptions::MAX_THREADS`].
+    pub threads: Option<usize>,
+}
+
+impl EnsembleOptions {
+    /// The largest thread count accepted.
+    pub const MAX_THREADS: usize = 1024;
+}
+
+/// How a member ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MemberStatus {
+    /// Reached `t_end`.
+    Finished,
+    /// A terminal event stopped it.
+    Event,
+    /// Cancelled (the records up to the cancellation are kept), or not
+    /// started before the cancellation.
+    Cancelled,
+    /// The integration failed (the records up to the last good state are
+    /// kept, the message says why).
+    Failed,
+    /// The member's scene is invalid (not run; the message names the field,
+    /// the column and the member).
+    Invalid,
+}
+
+impl MemberStatus {
+    /// `"finished"`, `"event"`, `"cancelled"`, `"failed"` or `"invalid"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            MemberStatus::Finished => "finished",
+            MemberStatus::Event => "event",
+            MemberStatus::Cancelled => "cancelled",
+            MemberStatus::Failed => "failed",
+            MemberStatus::Invalid => "invalid",
+        }
+    }
+
+    /// The status code stored in columnar outputs (the order of the variants).
+    pub fn code(self) -> u8 {
+        self as u8
+    }
+}
+
+/// One member's outcome.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MemberOutcome {
+    /// How it ended.
+    pub status: MemberStatus,
+    /// The run's summary (`None` for an invalid member).
+    pub summary: Option<RunSummary>,
+    /// Why it failed or was invalid.
+    pub error: Option<String>,
+}
+
+/// The columnar result of an ensemble: the records of every member in one
+/// row-major buffer, member `i`'s records being rows
+/// `offsets[i] .. offsets[i + 1]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ensemble {
+    /// The record columns (empty if no member could be built).
+    pub columns: Vec<Column>,
+    /// `(N, E)` of the `frame` group (see [`super::Simulation::frame_shape`]).
+    pub frame_shape: (usize, usize),
+    /// All records, row-major.
+    pub data: Vec<f64>,
+    /// Record offsets, `N + 1` of them.
+    pub offsets: Vec<usize>,
+    /// The located events of every member, with the member index.
+    pub events: Vec<(usize, EventHit)>,
+    /// Per member: status, summary, error.
+    pub members: Vec<MemberOutcome>,
+}
+
+impl Ensemble {
+    /// The number of members.
+    pub fn len(&self) -> usize {
+        self.members.len()
+    }
+
+    /// True if there are no members.
+    pub fn is_empty(&self) -> bool {
+        self.members.is_empty()
+    }
+
+    /// Member `i`'s records, row-major.
+    pub fn records(&self, i: usize) -> &[f64] {
+        let n = self.columns.len();
+        &self.data[self.offsets[i] * n..self.offsets[i + 1] * n]
+    }
+
+    /// The common number of records per member, if every member has the
+    /// same (the stacked `(N, records, …)` layout), else `None`.
+    pub fn uniform_records(&self) -> Option<usize> {
+        let first = self.offsets[1] - self.offsets[0];
+        self.offsets.windows(2).all(|w| w[1] - w[0] == first).then_some(first)
+    }
+}
+
+/// A member's sink: all records, or the last one.
+struct MemberSink {
+    last_only: bool,
+    data: Vec<f64>,
+    rows: usize,
+    events: Vec<EventHit>,
+}
+
+impl RecordSink for MemberSink {
+    fn columns(&mut self, _columns: &[Column]) -> io::Result<()> {
+        Ok(())
+    }
+    fn record(&mut self, row: &[f64]) -> io::Result<()> {
+        if self.last_only {
+            self.data.clear();
+            self.rows = 0;
+        }
+        self.data.extend_from_slice(row);
+        self.rows += 1;
+        Ok(())
+    }
+    fn event(&mut self, hit: &EventHit) -> io::Result<()> {
+        self.events.push(hit.clone());
+        Ok(())
+    }
+}
+
+struct MemberRun {
+    columns: Option<(Vec<Column>, (usize, usize))>,
+    data: Vec<f64>,
+    rows: usize,
+    events: Vec<EventHit>,
+    outcome: MemberOutcome,
+}
+
+fn invalid(error: String) -> MemberRun {
+    MemberRun { columns: None, data: Vec::new(), rows: 0, events: Vec::new(), outcome: MemberOutcome { status: MemberStatus::Invalid, summary: None, error: Some(error) } }
+}
+
+fn run_member(base: &Scene, table: &Table, i: usize, keep: Keep, user: Option<&UserFunctions>, cancel: &AtomicBool) -> MemberRun {
+    let mut scene = match table.member(base, i) {
+        Ok(s) => s,
+        Err(e) => return invalid(e.to_string()),
+    };
+    if let Keep::Samples(k) = keep {
+        scene.output.samples = Some(k);
+        scene.output.every = None;
+        scene.output.times = None;
+    }
+    let built = match user {
+        None => scene.build(),
+        Some(u) => scene.build_with_user(u.clone()),
+    };
+    let mut sim = match built {
+        Ok(sim) => sim,
+        Err(e) => {
+            let msg = match table.blame(&e) {
+                Some(col) => format!("{} (table column `{col}`, member {i})", e),
+                None => format!("{} (member {i})", e),
+            };
+            return invalid(msg);
+        }
+    };
+    if cancel.load(Ordering::Relaxed) {
+        let mut summary = RunSummary::new(sim.method_name(), sim.span().0);
+        summary.stop = SceneStop::Cancelled;
+        let outcome = MemberOutcome { status: MemberStatus::Cancelled, summary: Some(summary), error: None };
+        return MemberRun { columns: Some((sim.columns().to_vec(), sim.frame_shape())), data: Vec::new(), rows: 0, events: Vec::new(), outcome };
+    }
+    let mut sink = MemberSink { last_only: keep == Keep::Final, data: Vec::new(), rows: 0, events: Vec::new() };
+    let (summary, error) = match sim.run(&mut sink, cancel, &mut |_| {}) {
+        Ok(s) => (s, None),
+        Err(f) => (f.summary, Some(f.error)),
+    };
+    let status = match (&error, &summary.stop) {
+        (Some(_), _) => MemberStatus::Failed,
+        (None, SceneStop::Cancelled) => MemberStatus::Cancelled,
+        (None, SceneStop::Event(_)) => MemberStatus::Event,
+        (None, _) => MemberStatus::Finished,
+    };
+    let error = error.map(|e: RunError| format!("member {i}: {e}"));
+    MemberRun {
+        columns: Some((sim.columns().to_vec(), sim.frame_shape())),
+        data: sink.data,
+        rows: sink.rows,
+        events: sink.events,
+        outcome: MemberOutcome { status, summary: Some(summary), error },
+    }
+}
+
+/// Runs every member of `table` on `base` in parallel (see the [module
+/// docs](crate::scenes)). `user(i)` gives member `i`'s user potential, if the scene
+/// uses one (a separate instance per member, so that one member's failure
+/// inside it cannot reach another). `cancel` stops running members within a
+/// few hundred steps and skips those not started (status
+/// [`MemberStatus::Cancelled`]); `done(k)` is called after each finished
+/// member with the number finished so far (from the worker threads).
+///
+/// Fails only for bad options; everything about a member is in its
+/// [`MemberOutcome`].
+pub fn run_ensemble(
+    base: &Scene,
+    table: &Table,
+    opts: &EnsembleOptions,
+    user: Option<&(dyn Fn(usize) -> UserFunctions + Sync)>,
+    cancel: &AtomicBool,
+    done: &(dyn Fn(usize) + Sync),
+) -> Result<Ensemble, SceneError> {
+    if let Keep::Samples(k) = opts.keep {
+        if k < 2 {
+            return Err(SceneError::invalid("samples", k, "must be ≥ 2 (both ends of the span)"));
+        }
+    }
+    let pool = match opts.threads {
+        Some(n) if n == 0 || n > EnsembleOptions::MAX_THREADS => {
+            return Err(SceneError::invalid("threads", n, format!("must be between 1 and {}", EnsembleOptions::MAX_THREADS)));
+        }
+        Some(n) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n.min(table.len()))
+                .build()
+                .map_err(|e| SceneError::invalid("threads", n, format!("cannot start the threads: {e}")))?,
+        ),
+        None => None,
+    };
+    let finished = AtomicUsize::new(0);
+    let work = || {
+        (0..table.len())
+            .into_par_iter()
+            .map(|i| {
+                let u = user.map(|f| f(i));
+                let r = run_member(base, table, i, opts.keep, u.as_ref(), cancel);
+                done(finished.fetch_add(1, Ordering::Relaxed) + 1);
+                r
+            })
+            .collect::<Vec<_>>()
+    };
+    let runs = match &pool {
+        Some(p) => p.install(work),
+        None => work(),
+    };
+    let (columns, frame_shape) = runs.iter().find_map(|r| r.columns.clone()).unwrap_or_default();
+    let total: usize = runs.iter().map(|r| r.data.len()).sum();
+    let mut out = Ensemble { columns, frame_shape, data: Vec::with_capacity(total), offsets: Vec::with_capacity(runs.len() + 1), events: Vec::new(), members: Vec::with_capacity(runs.len()) };
+    out.offsets.push(0);
+    for (i, r) in runs.into_iter().enumerate() {
+        out.data.extend_from_slice(&r.data);
+        out.offsets.push(out.offsets[i] + r.rows);
+        out.events.extend(r.events.into_iter().map(|e| (i, e)));
+        out.members.push(r.outcome);
+    }
+    Ok(out)
+}

@@ -1,0 +1,238 @@
+//! Columnar ensembles (`scenes::run_ensemble`) and dotted scene fields
+//! (`Scene::set`): members equal their single runs bit for bit, bad tables
+//! are refused naming the column (and the member), and a member's failure
+//! stays with that member.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+use framedyn::scenes::{
+    example, run_ensemble, Ensemble, EnsembleOptions, FlatSink, Keep, MemberStatus, Scene, Table, UserFunctions, UserPotentialFn, DEFAULT_SCENE,
+};
+use proptest::prelude::*;
+
+fn single(scene: &Scene) -> FlatSink {
+    let mut sim = scene.build().unwrap();
+    let mut sink = FlatSink::default();
+    sim.run(&mut sink, &AtomicBool::new(false), &mut |_| {}).unwrap();
+    sink
+}
+
+fn ensemble(base: &Scene, table: &Table, keep: Keep, threads: Option<usize>) -> Ensemble {
+    run_ensemble(base, table, &EnsembleOptions { keep, threads }, None, &AtomicBool::new(false), &|_| {}).unwrap()
+}
+
+/// A short S² gyroscope whose members differ in initial state, body and
+/// potential.
+fn base() -> Scene {
+    let mut s = example(DEFAULT_SCENE).unwrap();
+    s.time.t_end = 1.0;
+    s
+}
+
+fn bits(a: &[f64]) -> Vec<u64> {
+    a.iter().map(|v| v.to_bits()).collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+    /// Every member's records are those of the single run of its scene, bit
+    /// for bit, whatever the thread count.
+    #[test]
+    fn members_equal_single_runs_bit_for_bit(
+        r in prop::collection::vec(0.1f64..2.5, 1..6),
+        seed in 0u64..1000,
+        threads in 1usize..3,
+    ) {
+        let n = r.len();
+        let spin: Vec<f64> = (0..n).map(|i| 0.01 * ((seed + i as u64) % 7) as f64).collect();
+        let beta: Vec<f64> = (0..n).map(|i| -0.3 + 0.05 * ((seed * 3 + i as u64) % 5) as f64).collect();
+        let inertia: Vec<f64> = (0..n).map(|i| 0.1 + 0.02 * i as f64).collect();
+        let table = Table::new([
+            ("initial.r", r.clone()),
+            ("initial.spin", spin.clone()),
+            ("potential.beta_hat", beta.clone()),
+            ("body.inertia", inertia.clone()),
+        ]).unwrap();
+        let out = ensemble(&base(), &table, Keep::All, Some(threads));
+        prop_assert_eq!(out.len(), n);
+        for i in 0..n {
+            let mut s = base();
+            s.set("initial.r", r[i]).unwrap();
+            s.set("initial.spin", spin[i]).unwrap();
+            s.set("potential.beta_hat", beta[i]).unwrap();
+            s.set("body.inertia", inertia[i]).unwrap();
+            let one = single(&s);
+            prop_assert_eq!(out.members[i].status, MemberStatus::Finished);
+            prop_assert_eq!(bits(out.records(i)), bits(&one.data));
+            prop_assert_eq!(&out.columns, &one.columns);
+        }
+    }
+}
+
+/// `Keep::Final` keeps the last record of `Keep::All`; `Keep::Samples(k)`
+/// the records of the scene with `output.samples = k`.
+#[test]
+fn keep_final_and_samples() {
+    let table = Table::new([("initial.r", vec![0.4, 0.8, 1.2])]).unwrap();
+    let all = ensemble(&base(), &table, Keep::All, None);
+    let fin = ensemble(&base(), &table, Keep::Final, None);
+    let k = 7;
+    let sampled = ensemble(&base(), &table, Keep::Samples(k), None);
+    assert_eq!(fin.uniform_records(), Some(1));
+    assert_eq!(sampled.uniform_records(), Some(k as usize));
+    let nc = all.columns.len();
+    for i in 0..3 {
+        let a = all.records(i);
+        assert_eq!(bits(fin.records(i)), bits(&a[a.len() - nc..]));
+        let mut s = base();
+        s.set("initial.r", table.column("initial.r").unwrap()[i]).unwrap();
+        s.output.every = None;
+        s.output.samples = Some(k);
+        assert_eq!(bits(sampled.records(i)), bits(&single(&s).data));
+        let (sa, sf) = (all.members[i].summary.as_ref().unwrap(), fin.members[i].summary.as_ref().unwrap());
+        assert_eq!((sa.steps, sa.energy_drift.to_bits(), sa.max_defect.to_bits()), (sf.steps, sf.energy_drift.to_bits(), sf.max_defect.to_bits()));
+    }
+    let err = run_ensemble(&base(), &table, &EnsembleOptions { keep: Keep::Samples(1), threads: None }, None, &AtomicBool::new(false), &|_| {}).unwrap_err();
+    assert!(err.to_string().contains("samples"), "{err}");
+}
+
+/// Bad tables are refused before anything runs, naming the column and, for
+/// a bad value, the first bad member.
+#[test]
+fn bad_tables_name_the_column_and_member() {
+    let msg = |r: Result<Table, framedyn::scenes::SceneError>| r.unwrap_err().to_string();
+    let e = msg(Table::new([("initial.r", vec![0.1, 0.2]), ("initial.spin", vec![0.0])]));
+    assert!(e.contains("initial.spin") && e.contains("initial.r") && e.contains("2 members"), "{e}");
+    let e = msg(Table::new([("initial.r", vec![0.1, f64::NAN, f64::INFINITY])]));
+    assert!(e.contains("initial.r") && e.contains("member 1") && e.contains("finite"), "{e}");
+    let e = msg(Table::new([("body.colour", vec![0.1])]));
+    assert!(e.contains("body.colour") && e.contains("allowed"), "{e}");
+    let e = msg(Table::new([("initial.r", vec![0.1]), ("initial.r", vec![0.2])]));
+    assert!(e.contains("initial.r") && e.contains("once"), "{e}");
+    let e = msg(Table::new(Vec::<(&str, Vec<f64>)>::new()));
+    assert!(e.contains("table") && e.contains("column"), "{e}");
+    let e = msg(Table::new([("initial.r", vec![])]));
+    assert!(e.contains("0 members"), "{e}");
+    let e = msg(Table::new([("body.J.0", vec![1.0])]));
+    assert!(e.contains("body.J.0") && e.contains("two indices"), "{e}");
+    let opts = EnsembleOptions { keep: Keep::All, threads: Some(0) };
+    let t = Table::new([("initial.r", vec![0.5])]).unwrap();
+    let e = run_ensemble(&base(), &t, &opts, None, &AtomicBool::new(false), &|_| {}).unwrap_err().to_string();
+    assert!(e.contains("threads") && e.contains("1024"), "{e}");
+}
+
+/// An out-of-range value makes its member invalid (not run) with a message
+/// naming the field, the column and the member; the other members run as
+/// they would alone.
+#[test]
+fn an_invalid_member_does_not_affect_the_others() {
+    let table = Table::new([("body.inertia", vec![0.2, -1.0, 0.3]), ("initial.r", vec![0.5, 0.6, 0.7])]).unwrap();
+    let out = ensemble(&base(), &table, Keep::All, Some(2));
+    let st: Vec<MemberStatus> = out.members.iter().map(|m| m.status).collect();
+    assert_eq!(st, [MemberStatus::Finished, MemberStatus::Invalid, MemberStatus::Finished]);
+    let e = out.members[1].error.as_deref().unwrap();
+    assert!(e.contains("body.inertia") && e.contains("member 1") && e.contains("-1"), "{e}");
+    assert_eq!(out.records(1).len(), 0);
+    assert!(out.members[1].summary.is_none());
+    let mut s = base();
+    s.set("body.inertia", 0.3).unwrap();
+    s.set("initial.r", 0.7).unwrap();
+    assert_eq!(bits(out.records(2)), bits(&single(&s).data));
+}
+
+/// A member whose user potential turns non-finite fails on its own, with the
+/// records up to the failure; the members around it finish.
+#[test]
+fn a_failing_member_keeps_its_partial_records_and_spares_the_others() {
+    let mut b = base();
+    let (a, bb) = (b.potential.alpha_hat.unwrap(), b.potential.beta_hat.unwrap());
+    b.potential = Default::default();
+    let table = Table::new([("initial.spin", vec![0.0, 0.01, 0.02, 0.03])]).unwrap();
+    let calls = Arc::new(std::sync::atomic::AtomicUsize::new(0));
+    let c = calls.clone();
+    let user = move |i: usize| {
+        let c = c.clone();
+        let value: UserPotentialFn = Arc::new(move |x: &[f64], _e: &[f64]| {
+            c.fetch_add(1, Ordering::Relaxed);
+            // Member 2 leaves its potential's domain once the particle is
+            // above z = 0.9.
+            if i == 2 && x[2] > 0.9 {
+                f64::NAN
+            } else {
+                a * x[2] * x[2] + bb * x[2]
+            }
+        });
+        UserFunctions { value, gradient: None }
+    };
+    let out = run_ensemble(&b, &table, &EnsembleOptions { keep: Keep::All, threads: Some(2) }, Some(&user), &AtomicBool::new(false), &|_| {}).unwrap();
+    let st: Vec<MemberStatus> = out.members.iter().map(|m| m.status).collect();
+    assert_eq!(st, [MemberStatus::Finished, MemberStatus::Finished, MemberStatus::Failed, MemberStatus::Finished]);
+    let e = out.members[2].error.as_deref().unwrap();
+    assert!(e.contains("member 2"), "{e}");
+    let n = out.columns.len();
+    let rec = out.records(2);
+    assert!(rec.len() >= n, "the failed member kept no records");
+    assert!(rec.iter().all(|v| v.is_finite()), "a failed member's records are its good states");
+    let t_last = rec[rec.len() - n];
+    assert!(t_last < b.time.t_end, "failed member reached t_end");
+    assert!(calls.load(Ordering::Relaxed) > 0);
+}
+
+/// A raised cancellation flag stops every member (status `Cancelled`).
+#[test]
+fn cancelled_ensemble_reports_every_member() {
+    let table = Table::new([("initial.r", vec![0.5; 5])]).unwrap();
+    let out = run_ensemble(&base(), &table, &EnsembleOptions::default(), None, &AtomicBool::new(true), &|_| {}).unwrap();
+    assert!(out.members.iter().all(|m| m.status == MemberStatus::Cancelled));
+}
+
+/// The progress callback counts every member once.
+#[test]
+fn progress_counts_members() {
+    let table = Table::new([("initial.r", vec![0.5, 0.6, 0.7, 0.8])]).unwrap();
+    let seen = std::sync::Mutex::new(Vec::new());
+    run_ensemble(&base(), &table, &EnsembleOptions::default(), None, &AtomicBool::new(false), &|k| seen.lock().unwrap().push(k)).unwrap();
+    let mut v = seen.into_inner().unwrap();
+    v.sort();
+    assert_eq!(v, [1, 2, 3, 4]);
+}
+
+/// Every kind of dotted path reaches its field; components of fields the
+/// scene does not give, and indices out of range, are refused naming the
+/// path.
+#[test]
+fn dotted_paths_set_their_fields() {
+    let mut s = base();
+    let mut g = base();
+    g.set("manifold.radius", 2.0).unwrap();
+    g.set("body.mass", 3.0).unwrap();
+    g.set("potential.alpha_hat", 0.1).unwrap();
+    g.set("initial.phi_dot", 0.25).unwrap();
+    g.set("initial.alpha", 0.5).unwrap();
+    g.set("method.h", 0.01).unwrap();
+    g.set("time.t_end", 2.0).unwrap();
+    assert_eq!(g.manifold.radius, Some(2.0));
+    assert_eq!(g.body.mass, 3.0);
+    assert_eq!(g.potential.alpha_hat, Some(0.1));
+    assert_eq!(g.initial.coordinate("phi_dot"), Some(0.25));
+    assert_eq!(g.initial.alpha, Some(0.5));
+    assert_eq!(g.method.h, Some(0.01));
+    assert_eq!(g.time.t_end, 2.0);
+    // Components need the field in the base scene.
+    let e = g.set("initial.position.0", 1.0).unwrap_err().to_string();
+    assert!(e.contains("initial.position.0") && e.contains("base scene"), "{e}");
+    g.initial.position = Some(vec![0.0, 0.0, 1.0]);
+    g.set("initial.position[2]", -1.0).unwrap();
+    assert_eq!(g.initial.position.as_deref(), Some(&[0.0, 0.0, -1.0][..]));
+    let e = g.set("initial.position.3", 1.0).unwrap_err().to_string();
+    assert!(e.contains("out of range") && e.contains('3'), "{e}");
+    let e = g.set("potential.terms.0.kappa", 1.0).unwrap_err().to_string();
+    assert!(e.contains("potential.terms.0.kappa") && e.contains("0 terms"), "{e}");
+    let e = g.set("initial.r", f64::NAN).unwrap_err().to_string();
+    assert!(e.contains("initial.r") && e.contains("finite"), "{e}");
+    // Matrix components.
+    s.body.j = Some(vec![vec![0.2, 0.0, 0.0], vec![0.0, 0.3, 0.0], vec![0.0, 0.0, 0.4]]);
+    s.set("body.J.1.1", 0.35).unwrap();
+    assert_eq!(s.body.j.as_ref().unwrap()[1][1], 0.35);
+}
