@@ -36,6 +36,7 @@ import numpy as np
 from . import _framedyn
 from ._errors import FramedynError, IntegrationError, InternalError, InvalidInputError, OutputError
 from ._scene import INITIAL_FIELDS, Scene, as_scenes
+from ._ensemble import EnsembleSolution, table_columns
 from ._solution import BatchSolution, EventRecords, Solution
 
 __version__: str = _framedyn.__version__
@@ -44,6 +45,7 @@ __all__ = [
     "Scene",
     "Solution",
     "BatchSolution",
+    "EnsembleSolution",
     "EventRecords",
     "Event",
     "Stepper",
@@ -210,30 +212,60 @@ def solve(
 
 def solve_batch(
     scenes: Union[Scene, Iterable[Scene]],
-    params: Optional[Sequence[Mapping[str, Any]]] = None,
+    params: Optional[Any] = None,
     *,
     user_potential: Optional[UserPotential] = None,
     threads: Optional[int] = None,
     on_error: str = "raise",
     user_gradient: Optional[UserGradient] = None,
-) -> BatchSolution:
+    keep: str = "all",
+    samples: Optional[int] = None,
+) -> Any:
     """Runs many scenes in parallel (Rust threads, GIL released).
 
-    Either a list of scenes, or one base scene with ``params``: a list of
-    parameter sets, each a dict of dotted paths (``{"initial.r": 0.3,
-    "potential.kappa": 2.0}``). Every member gives exactly the records of
-    :func:`solve` on that scene.
+    **Columnar** (the fast form): one base scene and a ``table``, a dict of
+    dotted scene fields to 1-D arrays of equal length N (or a pandas /
+    polars DataFrame with such columns)::
+
+        out = fd.solve_batch(scene, {"initial.r": r, "initial.spin": s}, keep="final")
+        out.final, out.status, out.stats["energy_drift"]
+
+    Scalar fields are named as in the scene (``initial.r``,
+    ``potential.beta_hat``, ``body.inertia``, ``time.t_end``, …), components
+    of vector and matrix fields by index (``initial.position.2``,
+    ``body.J.0.1``, ``potential.terms.1.kappa``). The table is validated and
+    converted in Rust once; every member is run exactly as :func:`solve`
+    would run that scene (the same records, bit for bit), and the result is
+    an :class:`EnsembleSolution` of stacked arrays. ``keep``: ``"all"``
+    records, ``"final"`` (the last record and the statistics only), or
+    ``samples=k`` equally spaced records (replacing the scene's output
+    times). A member that is invalid or whose run fails is reported in
+    ``status``/``errors`` and never affects the others; ``on_error="raise"``
+    raises an :class:`InvalidInputError` naming the column and member of the
+    first invalid member (run failures are only reported). With a
+    ``user_potential`` the members run one after another (each call holds
+    the GIL), each with its own error state.
+
+    **List of scenes** (the per-member form): a list of scenes, or one base
+    scene with ``params``, a list of parameter sets, each a dict of dotted
+    paths (``{"initial.r": 0.3, "potential.kappa": 2.0}``); returns a
+    :class:`BatchSolution` of :class:`Solution` objects, each exactly the
+    records of :func:`solve` on that scene. ``on_error``: ``"raise"`` raises
+    the first failure (its ``index`` attribute names the member); ``"keep"``
+    returns every member, failed ones holding their partial records and the
+    exception in ``.error``.
 
     ``user_potential``, ``user_gradient``: as for :func:`solve`.
-    ``threads``: worker threads (default: one per core). ``on_error``:
-    ``"raise"`` raises the first failure (its ``index`` attribute names the
-    member); ``"keep"`` returns every member, failed ones holding their
-    partial records and the exception in ``.error``.
+    ``threads``: worker threads (default: one per core).
     """
     if on_error not in ("raise", "keep"):
         raise InvalidInputError(f"invalid `on_error` = {on_error!r}: allowed: 'raise', 'keep'")
-    if threads is not None and (not isinstance(threads, int) or isinstance(threads, bool) or threads < 1):
-        raise InvalidInputError(f"invalid `threads` = {threads!r}: must be an int ≥ 1 or None")
+    if threads is not None and (not isinstance(threads, int) or isinstance(threads, bool) or not 1 <= threads <= 1024):
+        raise InvalidInputError(f"invalid `threads` = {threads!r}: must be an int in [1, 1024] or None")
+    if isinstance(scenes, Scene) and params is not None and not isinstance(params, (list, tuple)):
+        return _solve_table(scenes, params, user_potential, user_gradient, threads, on_error, keep, samples)
+    if keep != "all" or samples is not None:
+        raise InvalidInputError("`keep` and `samples` apply to a columnar batch (one scene and a table of columns)")
     members = as_scenes(scenes, params)
     results = _framedyn.run_batch([m._native for m in members], user_potential, threads, user_gradient)
     out: List[Solution] = []
@@ -253,6 +285,38 @@ def solve_batch(
         else:
             out.append(Solution._from_raw(r))
     return BatchSolution(out)
+
+
+def _solve_table(
+    scene: Scene,
+    table: Any,
+    user_potential: Optional[UserPotential],
+    user_gradient: Optional[UserGradient],
+    threads: Optional[int],
+    on_error: str,
+    keep: str,
+    samples: Optional[int],
+) -> EnsembleSolution:
+    if keep not in ("all", "final"):
+        raise InvalidInputError(f"invalid `keep` = {keep!r}: allowed: 'all', 'final' (or samples=k)")
+    mode = keep
+    if samples is not None:
+        if not isinstance(samples, (int, np.integer)) or isinstance(samples, bool) or not 2 <= int(samples) <= 2**53:
+            raise InvalidInputError(f"invalid `samples` = {samples!r}: must be an int ≥ 2")
+        if keep == "final":
+            raise InvalidInputError("give either keep='final' or samples=k, not both")
+        mode = "samples"
+        samples = int(samples)
+    names, cols = table_columns(table)
+    raw = _framedyn.run_table(scene._native, names, cols, mode, samples, threads, user_potential, user_gradient)
+    out = EnsembleSolution(raw)
+    if on_error == "raise":
+        bad = np.flatnonzero(out.status == "invalid")
+        if bad.size:
+            err = InvalidInputError(out.errors[int(bad[0])])
+            err.index = int(bad[0])  # type: ignore[attr-defined]
+            raise err
+    return out
 
 
 class Stepper:

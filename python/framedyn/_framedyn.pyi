@@ -20,6 +20,7 @@ __all__ = [
     "methods",
     "run",
     "run_batch",
+    "run_table",
     "write_records",
 ]
 __version__: str
@@ -84,6 +85,18 @@ def run_batch(
     user_gradient: Optional[_UserGradient] = None,
 ) -> List[Union[Dict[str, Any], BaseException]]:
     """Parallel runs: per scene the result dict or its exception."""
+
+def run_table(
+    scene: Scene,
+    names: List[str],
+    columns: List[Any],
+    keep: str = "all",
+    samples: Optional[int] = None,
+    threads: Optional[int] = None,
+    user_potential: Optional[_UserPotential] = None,
+    user_gradient: Optional[_UserGradient] = None,
+) -> Dict[str, Any]:
+    """A columnar ensemble: the stacked records, offsets, statuses and summaries."""
 
 def _raise_for_test(kind: str, message: str) -> None: ...
 

@@ -73,7 +73,8 @@ def test_invalid_member_names_its_index():
         fd.solve_batch([gyro_s2()], on_error="ignore")
     with pytest.raises(fd.InvalidInputError, match="params"):
         fd.solve_batch([gyro_s2()], params=[{}])
-    with pytest.raises(fd.InvalidInputError, match="params"):
+    # One dict is a columnar table: its values must be 1-D arrays.
+    with pytest.raises(fd.InvalidInputError, match=r"initial\.r.*1-D"):
         fd.solve_batch(gyro_s2(), params={"initial.r": 0.1})
     with pytest.raises(fd.InvalidInputError, match="body"):
         fd.solve_batch(gyro_s2(), params=[{"body.mass": -1.0}]).position
@@ -85,6 +86,23 @@ def test_user_potential_in_a_batch():
     batch = fd.solve_batch(scenes, user_potential=V, threads=2)
     for s, b in zip(scenes, batch):
         np.testing.assert_array_equal(b.data, fd.solve(s, user_potential=V).data)
+
+
+def test_user_potential_exception_is_reported_on_its_member_only():
+    # Only member 3 moves towards the pole, where the potential raises.
+    scenes = [gyro_s2(potential={"kind": "none"}, r_dot=(-1.0 if i == 3 else 1.0), t_end=1.0) for i in range(6)]
+
+    def V(x, e):
+        if x[2] > 0.95:
+            raise ValueError("outside the potential's domain")
+        return -0.3 * x[2]
+
+    kept = fd.solve_batch(scenes, user_potential=V, threads=2, on_error="keep")
+    assert [e is None for e in kept.errors] == [True, True, True, False, True, True]
+    assert isinstance(kept.errors[3], ValueError)
+    with pytest.raises(ValueError, match="domain") as ei:
+        fd.solve_batch(scenes, user_potential=V)
+    assert ei.value.index == 3
 
 
 def test_gil_is_released_during_a_long_batch():

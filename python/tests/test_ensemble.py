@@ -52,3 +52,43 @@ def test_ensemble_argument_errors(client):
         solve_ensemble([gyro_s2()], client=client, chunk_size=0)
     with pytest.raises(fd.InvalidInputError, match="on_error"):
         solve_ensemble([gyro_s2()], client=client, on_error="x")
+
+
+def test_columnar_ensemble_equals_solve_batch(client):
+    from framedyn.ensemble import solve_table
+
+    base = gyro_s2(t_end=1.0)
+    table = {"initial.r": np.linspace(0.2, 1.4, 7), "body.inertia": np.array([0.2, 0.3, -1.0, 0.2, 0.25, 0.3, 0.35])}
+    for kw in ({"keep": "final"}, {"samples": 5}):
+        ens = solve_table(base, table, client=client, chunk_size=3, **kw)
+        local = fd.solve_batch(base, table, on_error="keep", **kw)
+        assert list(ens.status) == list(local.status)
+        assert ens.status[2] == "invalid" and "body.inertia" in ens.errors[2]
+        assert np.array_equal(ens.flat, local.flat) and np.array_equal(ens.offsets, local.offsets)
+        for k in ("steps", "energy_drift", "t_reached"):
+            assert np.array_equal(ens.stats[k], local.stats[k], equal_nan=True)
+
+
+def test_columnar_ensemble_into_a_zarr_store(client, tmp_path):
+    zarr = pytest.importorskip("zarr")
+    from framedyn.ensemble import StoredEnsemble, solve_table
+
+    base = gyro_s2(t_end=1.0)
+    table = {"initial.r": np.linspace(0.2, 1.4, 10), "initial.spin": np.linspace(0.0, 0.1, 10)}
+    table["initial.r"][4] = -2.0  # an invalid member: NaN rows in the store
+    path = str(tmp_path / "runs.zarr")
+    out = solve_table(base, table, client=client, chunk_size=4, samples=6, store=path)
+    assert isinstance(out, StoredEnsemble) and len(out) == 10
+    local = fd.solve_batch(base, table, samples=6, on_error="keep")
+    assert list(out.status) == list(local.status)
+    g = zarr.open_group(path, mode="r")
+    data = g["data"][:]
+    assert data.shape == (10, 6, len(local.columns)) and list(g.attrs["columns"]) == local.columns
+    for i in range(10):
+        if local.status[i] == "invalid":
+            assert np.isnan(data[i]).all()
+        else:
+            assert np.array_equal(data[i], local.member(i).data)
+    assert np.array_equal(g["steps"][:], local.stats["steps"], equal_nan=True)
+    with pytest.raises(fd.InvalidInputError, match="keep='final' or samples"):
+        solve_table(base, table, client=client, store=path, keep="all")

@@ -11,7 +11,9 @@
 use pyo3::prelude::*;
 
 mod catalog;
+mod ensemble;
 mod errors;
+mod interrupt;
 mod run;
 mod scene;
 
@@ -23,6 +25,7 @@ fn _framedyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<run::PyStepper>()?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
     m.add_function(wrap_pyfunction!(run::run_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(ensemble::run_table, m)?)?;
     m.add_function(wrap_pyfunction!(errors::raise_for_test, m)?)?;
     m.add_function(wrap_pyfunction!(cli_main, m)?)?;
     m.add_function(wrap_pyfunction!(catalog::methods, m)?)?;

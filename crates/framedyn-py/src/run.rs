@@ -15,13 +15,14 @@ use pyo3::types::PyDict;
 use rayon::prelude::*;
 
 use crate::errors::{err, guard, internal, run_err, scene_err, solve_err, Kind};
+use crate::interrupt::interruptible;
 use crate::scene::PyScene;
 
 /// The first Python exception raised by a user potential (later calls
 /// return NaN at once, so the run stops at the next step).
-type ErrorSlot = Arc<Mutex<Option<PyErr>>>;
+pub(crate) type ErrorSlot = Arc<Mutex<Option<PyErr>>>;
 
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
@@ -80,11 +81,17 @@ fn gradient_part(py: Python<'_>, part: &Bound<'_, PyAny>, shape: &[usize], what:
     Ok(())
 }
 
-/// The Python callables `V(x, e) -> float` and `G(x, e) -> (∂V/∂x, ∂V/∂e)`
-/// (optional) as the core's user potential: `x` the embedding position
-/// (shape `(E,)`), `e` the body frame vectors as rows (shape `(N, E)`),
-/// `∂V/∂e` in the same shape. Each call takes the GIL.
-fn user_potential(py: Python<'_>, callable: Option<Py<PyAny>>, gradient: Option<Py<PyAny>>) -> PyResult<Option<(UserFunctions, ErrorSlot)>> {
+/// The user's Python callables, checked: `V(x, e) -> float` and the
+/// optional gradient `G(x, e) -> (∂V/∂x, ∂V/∂e)`.
+#[derive(Clone)]
+pub(crate) struct UserCallables {
+    value: Arc<Py<PyAny>>,
+    gradient: Option<Arc<Py<PyAny>>>,
+}
+
+/// Checks the user potential and gradient (callable; no gradient without a
+/// potential).
+pub(crate) fn check_user(py: Python<'_>, callable: Option<Py<PyAny>>, gradient: Option<Py<PyAny>>) -> PyResult<Option<UserCallables>> {
     let not_callable = |name: &str, what: &str, c: &Py<PyAny>| -> PyResult<()> {
         if c.bind(py).is_callable() {
             return Ok(());
@@ -102,8 +109,16 @@ fn user_potential(py: Python<'_>, callable: Option<Py<PyAny>>, gradient: Option<
     if let Some(g) = &gradient {
         not_callable("user_gradient", "G(x, e) -> (dV/dx, dV/de)", g)?;
     }
-    let slot: ErrorSlot = Arc::new(Mutex::new(None));
-    let s = slot.clone();
+    Ok(Some(UserCallables { value: Arc::new(callable), gradient: gradient.map(Arc::new) }))
+}
+
+/// The Python callables `V(x, e) -> float` and `G(x, e) -> (∂V/∂x, ∂V/∂e)`
+/// (optional) as the core's user potential: `x` the embedding position
+/// (shape `(E,)`), `e` the body frame vectors as rows (shape `(N, E)`),
+/// `∂V/∂e` in the same shape. Each call takes the GIL; the first exception
+/// goes into `slot`.
+pub(crate) fn user_functions(user: &UserCallables, slot: &ErrorSlot) -> UserFunctions {
+    let (callable, s) = (user.value.clone(), slot.clone());
     let value: UserPotentialFn = Arc::new(move |x: &[f64], e: &[f64]| -> f64 {
         let mut v = f64::NAN;
         with_slot(&s, |py| {
@@ -114,7 +129,7 @@ fn user_potential(py: Python<'_>, callable: Option<Py<PyAny>>, gradient: Option<
         v
     });
     let s = slot.clone();
-    let gradient = gradient.map(|g| -> UserGradientFn {
+    let gradient = user.gradient.clone().map(|g| -> UserGradientFn {
         Arc::new(move |x: &[f64], e: &[f64], dx: &mut [f64], de: &mut [f64]| {
             let ok = with_slot(&s, |py| {
                 let (xa, ea) = position_and_frame(py, x, e)?;
@@ -133,7 +148,15 @@ fn user_potential(py: Python<'_>, callable: Option<Py<PyAny>>, gradient: Option<
             }
         })
     });
-    Ok(Some((UserFunctions { value, gradient }, slot)))
+    UserFunctions { value, gradient }
+}
+
+/// [`check_user`] and [`user_functions`] with a new error slot.
+fn user_potential(py: Python<'_>, callable: Option<Py<PyAny>>, gradient: Option<Py<PyAny>>) -> PyResult<Option<(UserFunctions, ErrorSlot)>> {
+    Ok(check_user(py, callable, gradient)?.map(|u| {
+        let slot: ErrorSlot = Arc::new(Mutex::new(None));
+        (user_functions(&u, &slot), slot)
+    }))
 }
 
 /// A user event from Python, checked: name, `g(t, state) -> float`,
@@ -365,7 +388,11 @@ pub fn run<'py>(
 /// Runs many scenes in parallel (rayon, GIL released) and returns, per
 /// scene in order, the result dict or the exception it failed with (not
 /// raised: the Python wrapper decides). `threads`: size of the thread pool
-/// (default: rayon's global pool, one thread per core).
+/// (default: rayon's global pool, one thread per core). With a user
+/// potential every scene has its own error state (an exception is reported
+/// on the member that raised it only) and the scenes run one after another:
+/// each call of the potential holds the GIL, so threads would only contend
+/// for it.
 #[pyfunction]
 #[pyo3(signature = (scenes, user_potential = None, threads = None, user_gradient = None))]
 pub fn run_batch<'py>(
@@ -378,9 +405,10 @@ pub fn run_batch<'py>(
     if threads == Some(0) {
         return Err(err(py, Kind::Invalid, "threads = 0: must be ≥ 1 (or None for one per core)"));
     }
-    let user = self::user_potential(py, user_potential, user_gradient)?;
+    let user = check_user(py, user_potential, user_gradient)?;
     let scenes: Vec<Scene> = scenes.iter().map(|s| s.inner.clone()).collect();
-    let f = user.as_ref().map(|(f, _)| f);
+    let slots: Vec<ErrorSlot> = scenes.iter().map(|_| Arc::new(Mutex::new(None))).collect();
+    let threads = if user.is_some() { Some(1) } else { threads };
     let pool = match threads {
         Some(n) => Some(
             rayon::ThreadPoolBuilder::new()
@@ -390,21 +418,29 @@ pub fn run_batch<'py>(
         ),
         None => None,
     };
-    let outs: Vec<Result<Result<RunOutput, SceneError>, String>> = py.detach(|| {
+    let (outs, interrupt) = interruptible(py, |cancel| {
         let work = || {
             scenes
                 .par_iter()
-                .map(|s| guard(|| run_scene(s, f, None, &AtomicBool::new(false), &mut |_| {})))
-                .collect::<Vec<_>>()
+                .zip(slots.par_iter())
+                .map(|(s, slot)| {
+                    let f = user.as_ref().map(|u| user_functions(u, slot));
+                    guard(|| run_scene(s, f.as_ref(), None, cancel, &mut |_| {}))
+                })
+                .collect::<Vec<Result<Result<RunOutput, SceneError>, String>>>()
         };
         match &pool {
             Some(p) => p.install(work),
             None => work(),
         }
     });
-    let slot = user.as_ref().map(|(_, s)| s);
+    if let Some(e) = interrupt {
+        return Err(e);
+    }
+    let outs = outs.map_err(|panic| internal(py, panic))?;
     outs.into_iter()
-        .map(|o| match finish(py, o, slot) {
+        .zip(&slots)
+        .map(|(o, slot)| match finish(py, o, user.as_ref().map(|_| slot)) {
             Ok(d) => Ok(d.into_any().unbind()),
             Err(e) => Ok(e.into_value(py).into_any()),
         })

@@ -1,0 +1,35 @@
+//! Long calls that stop on Ctrl-C: the work runs on a scoped thread with
+//! the GIL released while the calling (main) thread checks for signals
+//! every few milliseconds, so `KeyboardInterrupt` arrives within about a
+//! second however the work is split across threads.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use pyo3::prelude::*;
+
+/// How often the waiting thread checks for signals.
+const SIGNAL_POLL: Duration = Duration::from_millis(10);
+
+/// Runs `work(cancel)` on a scoped thread; a pending signal (Ctrl-C) raises
+/// `cancel` (the work is expected to stop soon after, keeping what it has)
+/// and is returned as the error to raise once the work has returned. A
+/// panic in the work is returned as its message.
+pub fn interruptible<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> T + Send) -> (Result<T, String>, Option<PyErr>) {
+    let cancel = AtomicBool::new(false);
+    let mut interrupt: Option<PyErr> = None;
+    let result = std::thread::scope(|s| {
+        let worker = s.spawn(|| crate::errors::guard(|| work(&cancel)));
+        while !worker.is_finished() {
+            py.detach(|| std::thread::sleep(SIGNAL_POLL));
+            if interrupt.is_none() {
+                if let Err(e) = py.check_signals() {
+                    interrupt = Some(e);
+                    cancel.store(true, Ordering::Relaxed);
+                }
+            }
+        }
+        worker.join().unwrap_or_else(|_| Err("the worker thread panicked".to_string()))
+    });
+    (result, interrupt)
+}
