@@ -6,6 +6,7 @@
 //! framedyn scenes show NAME      # print one (a starting point for your own)
 //! framedyn validate SCENE        # check a scene without running it
 //! framedyn methods               # the integration methods (the registry)
+//! framedyn sweep SCENE --table members.csv|npz [--output results.npz] [--keep all|final] [--samples K] [--threads N]
 //! ```
 //!
 //! `SCENE` is a TOML or JSON file, or the name of an embedded scene; without
@@ -17,6 +18,14 @@
 //! columns, one line per event in time order. A terminal event ends the run
 //! normally (exit code 0) at the event's state.
 //!
+//! `sweep` runs one member per row of the table (columns named by dotted
+//! scene fields: `initial.r`, `potential.kappa`, `body.J.0.1`, …) in
+//! parallel and writes every member's records, status and summary to one
+//! `.npz` (layout in [`sweep::write_ensemble`]); a member that is invalid or
+//! fails is recorded as such and does not stop the others (exit code 0;
+//! the summary counts them); Ctrl-C stops the running members and writes
+//! what was computed (exit code 130).
+//!
 //! Exit codes: 0 success; 2 bad command line; 3 invalid scene; 4 integration
 //! failure (the output holds the part up to the last good state); 5 I/O
 //! error (no output file is left); 130 interrupted by Ctrl-C (the output
@@ -24,6 +33,7 @@
 #![deny(missing_docs)]
 
 pub mod output;
+pub mod sweep;
 
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -77,6 +87,35 @@ enum Command {
     },
     /// List the integration methods a scene's `[method] name` can take.
     Methods,
+    /// Run one member per row of a table (columns: dotted scene fields such as `initial.r`) and write all of them to one .npz.
+    Sweep {
+        /// Scene file (.toml or .json) or embedded scene name: the base of every member.
+        scene: String,
+        /// The members: CSV with a header of dotted field names, or .npz of 1-D arrays named by field.
+        #[arg(short, long)]
+        table: PathBuf,
+        /// Output .npz (default: sweep.npz).
+        #[arg(short, long, default_value = "sweep.npz")]
+        output: PathBuf,
+        /// Keep every record (`all`) or each member's final record only (`final`).
+        #[arg(long, value_enum, default_value = "all")]
+        keep: KeepArg,
+        /// Keep K equally spaced records per member (K ≥ 2; replaces the scene's output times).
+        #[arg(long, conflicts_with = "keep")]
+        samples: Option<u64>,
+        /// Worker threads (default: one per core; at most 1024).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// No progress bar and no summary.
+        #[arg(short, long)]
+        quiet: bool,
+    },
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum KeepArg {
+    All,
+    Final,
 }
 
 /// The method list of `framedyn methods` and of `framedyn run --help`,
@@ -199,12 +238,81 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
             println!("{origin}: valid");
             Ok(())
         }
+        Command::Sweep { scene, table, output, keep, samples, threads, quiet } => {
+            let (s, origin) = load(&scene)?;
+            let keep = match (samples, keep) {
+                (Some(k), _) => scenes::Keep::Samples(k),
+                (None, KeepArg::Final) => scenes::Keep::Final,
+                (None, KeepArg::All) => scenes::Keep::All,
+            };
+            run_sweep(s, &origin, &table, &output, keep, threads, quiet)
+        }
         Command::Run { scene, output, format, quiet } => {
             let name = scene.unwrap_or_else(|| scenes::DEFAULT_SCENE.to_string());
             let (s, origin) = load(&name)?;
             run_scene(s, &origin, output, format, quiet)
         }
     }
+}
+
+/// Installs the Ctrl-C handler (once per process) and lowers the flag.
+fn arm_cancel() -> &'static AtomicBool {
+    static HANDLER: std::sync::Once = std::sync::Once::new();
+    HANDLER.call_once(|| {
+        // A second Ctrl-C ends the process at once (the temporary file is
+        // left behind; the output path is never half-written).
+        let _ = ctrlc::set_handler(move || {
+            if CANCEL.swap(true, Ordering::SeqCst) {
+                std::process::exit(i32::from(EXIT_INTERRUPTED));
+            }
+        });
+    });
+    CANCEL.store(false, Ordering::SeqCst);
+    &CANCEL
+}
+
+fn run_sweep(scene: Scene, origin: &str, table: &std::path::Path, output: &std::path::Path, keep: scenes::Keep, threads: Option<usize>, quiet: bool) -> Result<(), (u8, String)> {
+    scene.validate().map_err(|e| (EXIT_INVALID, format!("{origin}: invalid scene: {e}")))?;
+    let table = sweep::read_table(table).map_err(|e| match e {
+        sweep::TableError::Io(m) => (EXIT_IO, m),
+        sweep::TableError::Invalid(m) => (EXIT_INVALID, m),
+    })?;
+    let cancel = arm_cancel();
+    let n = table.len() as u64;
+    let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
+        let b = indicatif::ProgressBar::with_draw_target(Some(n), indicatif::ProgressDrawTarget::stderr());
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} members (eta {eta})")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    });
+    let opts = scenes::EnsembleOptions { keep, threads };
+    let started = Instant::now();
+    let out = scenes::run_ensemble(&scene, &table, &opts, None, cancel, &|k| {
+        if let Some(b) = &bar {
+            b.set_position(k as u64);
+        }
+    })
+    .map_err(|e| (EXIT_INVALID, format!("{origin}: {e}")))?;
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    sweep::write_ensemble(output, &table, &out).map_err(|e| (EXIT_IO, format!("writing {}: {e} (no output written)", output.display())))?;
+    let interrupted = cancel.load(Ordering::SeqCst);
+    if !quiet {
+        println!("scene:           {origin}");
+        println!("members:         {} ({})", out.len(), sweep::status_counts(&out));
+        if let Some((i, m)) = out.members.iter().enumerate().find(|(_, m)| m.error.is_some()) {
+            println!("first failure:   member {i}: {}", m.error.as_deref().unwrap_or(""));
+        }
+        println!("wall time:       {:.3} s", started.elapsed().as_secs_f64());
+        println!("output:          {} ({} records)", output.display(), out.offsets.last().copied().unwrap_or(0));
+    }
+    if interrupted {
+        return Err((EXIT_INTERRUPTED, format!("interrupted; {} holds the members computed so far (status `cancelled` for the rest)", output.display())));
+    }
+    Ok(())
 }
 
 fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option<FormatArg>, quiet: bool) -> Result<(), (u8, String)> {
@@ -219,18 +327,7 @@ fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option
     };
     let mut sink = output::FileSink::create(&path, format).map_err(|e| (EXIT_IO, format!("cannot create output {}: {e}", path.display())))?;
 
-    static HANDLER: std::sync::Once = std::sync::Once::new();
-    HANDLER.call_once(|| {
-        // A second Ctrl-C ends the process at once (the temporary file is
-        // left behind; the output path is never half-written).
-        let _ = ctrlc::set_handler(move || {
-            if CANCEL.swap(true, Ordering::SeqCst) {
-                std::process::exit(i32::from(EXIT_INTERRUPTED));
-            }
-        });
-    });
-    CANCEL.store(false, Ordering::SeqCst);
-    let cancel = &CANCEL;
+    let cancel = arm_cancel();
     let show_bar = !quiet && std::io::stderr().is_terminal();
     let started = Instant::now();
     let mut bar: Option<indicatif::ProgressBar> = None;

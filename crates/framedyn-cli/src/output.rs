@@ -27,7 +27,8 @@ pub struct FileSink {
     events: Vec<EventHit>,
 }
 
-fn sibling(target: &Path, suffix: &str) -> PathBuf {
+/// A hidden temporary file next to `target` (`.NAME.SUFFIX-PID`).
+pub(crate) fn sibling(target: &Path, suffix: &str) -> PathBuf {
     let name = target.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "output".into());
     let dir = target.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or_else(|| Path::new("."));
     dir.join(format!(".{name}.{suffix}-{}", std::process::id()))
@@ -232,7 +233,7 @@ impl Drop for FileSink {
 }
 
 /// The `.npy` (format 1.0) header for `descr` and `shape`.
-fn npy_header(descr: &str, shape: &str) -> Vec<u8> {
+pub(crate) fn npy_header(descr: &str, shape: &str) -> Vec<u8> {
     let dict = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
     let mut header = dict.into_bytes();
     // magic (6) + version (2) + length (2) + header + '\n' must be a multiple of 64.
@@ -248,7 +249,7 @@ fn npy_header(descr: &str, shape: &str) -> Vec<u8> {
 }
 
 /// A 1-D array of strings as `.npy` (`<U` = UTF-32LE, fixed width).
-fn npy_strings(items: &[&str]) -> Vec<u8> {
+pub(crate) fn npy_strings(items: &[&str]) -> Vec<u8> {
     let width = items.iter().map(|s| s.chars().count()).max().unwrap_or(1).max(1);
     let mut out = npy_header(&format!("<U{width}"), &format!("({},)", items.len()));
     for s in items {

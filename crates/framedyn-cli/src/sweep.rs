@@ -1,0 +1,256 @@
+//! `framedyn sweep`: a scene and a table of members (columns named by
+//! dotted scene fields) in, one `.npz` of every member's records, status and
+//! summary out (see [`write_ensemble`] for the layout).
+//!
+//! Tables are CSV (a header of field names, one member per line) or `.npz`
+//! (one 1-D float64 or int64 array per field, as written by
+//! `numpy.savez(path, **{"initial.r": r, ...})`).
+
+use std::fs::{self, File};
+use std::io::{self, BufRead, BufReader, BufWriter, Read, Write};
+use std::path::Path;
+
+use framedyn::scenes::{Ensemble, MemberStatus, Table};
+
+use crate::output::{npy_header, npy_strings, sibling};
+
+/// Why a table could not be read: the message names the file, the line or
+/// array, and what was expected.
+#[derive(Debug)]
+pub enum TableError {
+    /// The file could not be read.
+    Io(String),
+    /// The file is not a valid table.
+    Invalid(String),
+}
+
+impl std::fmt::Display for TableError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            TableError::Io(m) | TableError::Invalid(m) => f.write_str(m),
+        }
+    }
+}
+
+/// Reads a table from `path` (`.npz`, else CSV).
+pub fn read_table(path: &Path) -> Result<Table, TableError> {
+    let shown = path.display();
+    let columns = if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("npz")) {
+        let file = File::open(path).map_err(|e| TableError::Io(format!("cannot read table {shown}: {e}")))?;
+        read_npz(file).map_err(|m| TableError::Invalid(format!("table {shown}: {m}")))?
+    } else {
+        let file = File::open(path).map_err(|e| TableError::Io(format!("cannot read table {shown}: {e}")))?;
+        read_csv(BufReader::new(file)).map_err(|m| TableError::Invalid(format!("table {shown}: {m}")))?
+    };
+    Table::new(columns).map_err(|e| TableError::Invalid(format!("table {shown}: {e}")))
+}
+
+/// CSV: a header of dotted field names, then one line of numbers per member
+/// (`#` lines and blank lines skipped).
+fn read_csv(r: impl BufRead) -> Result<Vec<(String, Vec<f64>)>, String> {
+    let mut names: Option<Vec<String>> = None;
+    let mut cols: Vec<Vec<f64>> = Vec::new();
+    for (k, line) in r.lines().enumerate() {
+        let line = line.map_err(|e| format!("line {}: {e}", k + 1))?;
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+        match &names {
+            None => {
+                cols = vec![Vec::new(); cells.len()];
+                names = Some(cells.iter().map(|c| c.to_string()).collect());
+            }
+            Some(n) => {
+                if cells.len() != n.len() {
+                    return Err(format!("line {}: {} values for {} columns", k + 1, cells.len(), n.len()));
+                }
+                for (j, c) in cells.iter().enumerate() {
+                    let v: f64 = c.parse().map_err(|_| format!("line {}, column `{}`: `{c}` is not a number", k + 1, n[j]))?;
+                    cols[j].push(v);
+                }
+            }
+        }
+    }
+    let names = names.ok_or("empty file: expected a header line of dotted scene fields (e.g. `initial.r,initial.spin`)")?;
+    Ok(names.into_iter().zip(cols).collect())
+}
+
+/// `.npz`: every member a 1-D `<f8` or `<i8` array.
+fn read_npz(file: File) -> Result<Vec<(String, Vec<f64>)>, String> {
+    let mut zip = zip::ZipArchive::new(BufReader::new(file)).map_err(|e| format!("not an npz (zip) archive: {e}"))?;
+    let mut out = Vec::new();
+    for i in 0..zip.len() {
+        let mut entry = zip.by_index(i).map_err(|e| format!("entry {i}: {e} (write tables with numpy.savez, not savez_compressed)"))?;
+        let name = entry.name().trim_end_matches(".npy").to_string();
+        let mut bytes = Vec::new();
+        entry.read_to_end(&mut bytes).map_err(|e| format!("array `{name}`: {e}"))?;
+        out.push((name.clone(), parse_npy_1d(&bytes).map_err(|m| format!("array `{name}`: {m}"))?));
+    }
+    Ok(out)
+}
+
+/// A 1-D little-endian float64 or int64 `.npy` array.
+fn parse_npy_1d(b: &[u8]) -> Result<Vec<f64>, String> {
+    if b.len() < 10 || &b[..6] != b"\x93NUMPY" {
+        return Err("not a .npy array".into());
+    }
+    let (hlen, start) = match b[6] {
+        1 => (u16::from_le_bytes([b[8], b[9]]) as usize, 10),
+        2 | 3 if b.len() >= 12 => (u32::from_le_bytes([b[8], b[9], b[10], b[11]]) as usize, 12),
+        v => return Err(format!("unsupported .npy version {v}")),
+    };
+    let header = b.get(start..start + hlen).ok_or("truncated header")?;
+    let header = std::str::from_utf8(header).map_err(|_| "header is not text")?;
+    let descr = if header.contains("'<f8'") {
+        'f'
+    } else if header.contains("'<i8'") {
+        'i'
+    } else {
+        return Err(format!("dtype in `{}`; allowed: float64 or int64", header.trim()));
+    };
+    if header.contains("'fortran_order': True") {
+        return Err("Fortran-ordered arrays are not supported".into());
+    }
+    let shape = header.split("'shape':").nth(1).and_then(|s| s.split(')').next()).ok_or("no shape")?;
+    let dims: Vec<&str> = shape.trim().trim_start_matches('(').split(',').map(str::trim).filter(|s| !s.is_empty()).collect();
+    if dims.len() != 1 {
+        return Err(format!("shape ({}); allowed: a 1-D array (one value per member)", dims.join(", ")));
+    }
+    let n: usize = dims[0].parse().map_err(|_| "bad shape")?;
+    let data = &b[start + hlen..];
+    if data.len() != 8 * n {
+        return Err(format!("{} data bytes for {n} values", data.len()));
+    }
+    Ok(data
+        .chunks_exact(8)
+        .map(|c| {
+            let a: [u8; 8] = c.try_into().unwrap_or([0; 8]);
+            if descr == 'f' {
+                f64::from_le_bytes(a)
+            } else {
+                i64::from_le_bytes(a) as f64
+            }
+        })
+        .collect())
+}
+
+fn npy_f64(values: &[f64], shape: &str) -> Vec<u8> {
+    let mut out = npy_header("<f8", shape);
+    out.reserve(values.len() * 8);
+    for v in values {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    out
+}
+
+fn npy_i64(values: &[i64]) -> Vec<u8> {
+    let mut out = npy_header("<i8", &format!("({},)", values.len()));
+    for v in values {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    out
+}
+
+/// Writes the ensemble atomically (a temporary file renamed onto `target`)
+/// as an `.npz` with: `data` (all records, `(total, columns)`), `offsets`
+/// (`(N + 1,)`, member `i` is `data[offsets[i]:offsets[i+1]]`), `columns`,
+/// `units`, `status` and `error` (per member, strings; `error` empty when
+/// none), the per-member summaries `steps`, `rejected`, `rhs_evals`,
+/// `energy_initial`, `energy_drift`, `momentum_map_drift`, `max_defect`,
+/// `t_reached` (NaN for invalid members), and the table itself as
+/// `table.<field>`.
+pub fn write_ensemble(target: &Path, table: &Table, out: &Ensemble) -> io::Result<()> {
+    if target.is_dir() {
+        return Err(io::Error::new(io::ErrorKind::InvalidInput, "the output path is a directory"));
+    }
+    let tmp = sibling(target, "tmp");
+    let result = (|| -> io::Result<()> {
+        use zip::write::SimpleFileOptions;
+        let file = File::create(&tmp)?;
+        let mut zip = zip::ZipWriter::new(BufWriter::new(file));
+        let opts = SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored).large_file(true);
+        let to_io = |e: zip::result::ZipError| io::Error::other(e.to_string());
+        let mut put = |name: &str, bytes: &[u8]| -> io::Result<()> {
+            zip.start_file(format!("{name}.npy"), opts).map_err(to_io)?;
+            zip.write_all(bytes)
+        };
+        let nc = out.columns.len();
+        let rows = out.offsets.last().copied().unwrap_or(0);
+        put("data", &npy_f64(&out.data, &format!("({rows}, {nc})")))?;
+        put("offsets", &npy_i64(&out.offsets.iter().map(|&o| o as i64).collect::<Vec<_>>()))?;
+        let names: Vec<&str> = out.columns.iter().map(|c| c.name.as_str()).collect();
+        put("columns", &npy_strings(&names))?;
+        let units: Vec<&str> = out.columns.iter().map(|c| c.unit).collect();
+        put("units", &npy_strings(&units))?;
+        let status: Vec<&str> = out.members.iter().map(|m| m.status.name()).collect();
+        put("status", &npy_strings(&status))?;
+        let errors: Vec<&str> = out.members.iter().map(|m| m.error.as_deref().unwrap_or("")).collect();
+        put("error", &npy_strings(&errors))?;
+        let n = out.members.len();
+        let field = |f: &dyn Fn(&framedyn::scenes::RunSummary) -> f64| -> Vec<u8> {
+            let v: Vec<f64> = out.members.iter().map(|m| m.summary.as_ref().map(f).unwrap_or(f64::NAN)).collect();
+            npy_f64(&v, &format!("({n},)"))
+        };
+        put("steps", &field(&|s| s.steps as f64))?;
+        put("rejected", &field(&|s| s.rejected as f64))?;
+        put("rhs_evals", &field(&|s| s.rhs_evals as f64))?;
+        put("energy_initial", &field(&|s| s.energy_initial))?;
+        put("energy_drift", &field(&|s| s.energy_drift))?;
+        put("momentum_map_drift", &field(&|s| s.momentum_map_drift))?;
+        put("max_defect", &field(&|s| s.max_defect))?;
+        put("t_reached", &field(&|s| s.t_reached))?;
+        for name in table.names() {
+            let v = table.column(name).unwrap_or(&[]);
+            put(&format!("table.{name}"), &npy_f64(v, &format!("({},)", v.len())))?;
+        }
+        let mut inner = zip.finish().map_err(to_io)?;
+        inner.flush()?;
+        inner.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+        fs::rename(&tmp, target)
+    })();
+    if result.is_err() {
+        let _ = fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// `N finished, k failed, …` for the summary.
+pub fn status_counts(out: &Ensemble) -> String {
+    let all = [MemberStatus::Finished, MemberStatus::Event, MemberStatus::Cancelled, MemberStatus::Failed, MemberStatus::Invalid];
+    all.iter()
+        .filter_map(|s| {
+            let k = out.members.iter().filter(|m| m.status == *s).count();
+            (k > 0).then(|| format!("{k} {}", s.name()))
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_tables_parse_and_report_bad_cells() {
+        let t = read_csv("# members\ninitial.r, initial.spin\n0.5, 0\n0.6,0.01\n".as_bytes()).unwrap();
+        assert_eq!(t[0], ("initial.r".to_string(), vec![0.5, 0.6]));
+        assert_eq!(t[1].1, vec![0.0, 0.01]);
+        let e = read_csv("initial.r\n0.5\nx\n".as_bytes()).unwrap_err();
+        assert!(e.contains("line 3") && e.contains("initial.r") && e.contains("`x`"), "{e}");
+        let e = read_csv("a,b\n1\n".as_bytes()).unwrap_err();
+        assert!(e.contains("line 2") && e.contains("1 values for 2 columns"), "{e}");
+    }
+
+    #[test]
+    fn npy_arrays_round_trip_and_refuse_other_shapes() {
+        let v = [0.5, -1.25, 3.0];
+        assert_eq!(parse_npy_1d(&npy_f64(&v, "(3,)")).unwrap(), v);
+        assert_eq!(parse_npy_1d(&npy_i64(&[1, -2])).unwrap(), [1.0, -2.0]);
+        let e = parse_npy_1d(&npy_f64(&[1.0, 2.0], "(1, 2)")).unwrap_err();
+        assert!(e.contains("1-D"), "{e}");
+        let e = parse_npy_1d(&npy_strings(&["a"])).unwrap_err();
+        assert!(e.contains("float64"), "{e}");
+    }
+}
