@@ -276,8 +276,8 @@ def main():
     ap.add_argument("--measure", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args()
     args.sizes = sorted({int(x) for x in args.sizes.split(",")} | ({100000} if args.large else set()))
-    if min(args.sizes) < CHECK:
-        sys.exit(f"--sizes: every N must be >= {CHECK} (the members whose error is measured)")
+    if max(args.sizes) < CHECK:
+        sys.exit(f"--sizes: the largest N must be >= {CHECK} (the members whose error is measured)")
     if args.summary_only:
         print(summary())
         return
