@@ -151,6 +151,22 @@ def measure_framedyn(args):
         wall, _ = best_of(lambda: fd.solve_batch(tiny, table(n), keep="final", threads=1), args.repeats)
         rows.append(row("framedyn", "overhead", n, 1, wall))
         print(f"framedyn per-member overhead N={n}: {1e6 * wall / n:.2f} µs", flush=True)
+    # A Python user potential (V = a z/R, the cosine potential by hand),
+    # 6 members × 400 RK4 steps: the batch (members one after another, each
+    # call holding the GIL) against a loop of fd.solve over the same members.
+    upot = lambda x, e: A * x[2] / R  # noqa: E731
+    ubase = fd.Scene(
+        manifold={"kind": "S2", "radius": R}, body={"kind": "gyroscope", "mass": M, "inertia": I},
+        r=Q0[0], phi=Q0[1], r_dot=V0[0], phi_dot=V0[1], alpha=Q0[2], spin=I * V0[2], method="rk4", h=0.05, t_end=T_END,
+    )
+    k = 6
+    uparams = [{"initial.r": float(r[i]), "initial.r_dot": float(rd[i])} for i in range(k)]
+    wall_b, ub = best_of(lambda: fd.solve_batch(ubase, {"initial.r": r[:k], "initial.r_dot": rd[:k]}, user_potential=upot, keep="final"), args.repeats)
+    wall_l, ul = best_of(lambda: [fd.solve(ubase.with_params(p), user_potential=upot) for p in uparams], args.repeats)
+    assert all(np.array_equal(ub.final[i], ul[i].data[-1]) for i in range(k))
+    rows.append(row("framedyn", "user_potential_batch", k, 1, wall_b))
+    rows.append(row("framedyn", "user_potential_loop", k, 1, wall_l))
+    print(f"user potential: batch {wall_b:.3f} s, loop of fd.solve {wall_l:.3f} s", flush=True)
     n = min(1000, max(sizes))
     params = [{"initial.r": float(r[k]), "initial.r_dot": float(rd[k]), "initial.spin": float(I * om[k])} for k in range(n)]
     for threads in (1, 2):

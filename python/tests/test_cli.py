@@ -41,3 +41,24 @@ def test_scenes_and_validate(tmp_path):
     bad.write_text("[manifold]\nkind = 'S4'\n")
     out = subprocess.run([exe, "validate", str(bad)], capture_output=True, text=True)
     assert out.returncode != 0 and "manifold" in out.stderr
+
+
+def test_sweep_output_round_trips_through_numpy(tmp_path):
+    import numpy as np
+
+    import framedyn as fd
+
+    exe = shutil.which("framedyn", path=sys.prefix + "/bin")
+    r = np.array([0.4, 0.8, 1.2])
+    np.savez(tmp_path / "members.npz", **{"initial.r": r, "initial.spin": np.array([0, 1, 2])})
+    out = subprocess.run([exe, "sweep", "s2-gyroscope-pole", "--table", str(tmp_path / "members.npz"), "--output", str(tmp_path / "s.npz"), "--samples", "5"],
+                         capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    with np.load(tmp_path / "s.npz") as z:
+        assert list(z["status"]) == ["finished"] * 3
+        assert list(z["offsets"]) == [0, 5, 10, 15]
+        assert np.array_equal(z["table.initial.r"], r)
+        here = fd.solve_batch(fd.Scene.example("s2-gyroscope-pole"), {"initial.r": r, "initial.spin": np.array([0.0, 1.0, 2.0])}, samples=5)
+        assert list(z["columns"]) == here.columns
+        assert np.array_equal(z["data"], here.flat)
+        assert np.array_equal(z["steps"], here.stats["steps"])
