@@ -82,6 +82,7 @@ class EnsembleSolution:
         "groups": "Quantity group of each column.",
         "frame_shape": "``(N_frame, E)``.",
         "status": "Per member: how it ended, ``(N,)`` array of str.",
+        "status_names": "The statuses the core reports, in the order of their codes.",
         "errors": "Per member: the error message, or None.",
         "exceptions": "Per member: the exception its user potential raised, or None.",
         "stats": "Per-member run statistics, a dict of ``(N,)`` arrays.",
@@ -98,8 +99,8 @@ class EnsembleSolution:
         self.units: List[str] = list(raw["units"])
         self.groups: List[Optional[str]] = list(raw["groups"])
         self.frame_shape: Tuple[int, int] = tuple(raw["frame_shape"])  # type: ignore[assignment]
-        names = np.array(raw["status_names"])
-        self.status: np.ndarray = names[np.asarray(raw["status"], dtype=np.intp)]
+        self.status_names: List[str] = list(raw["status_names"])
+        self.status: np.ndarray = np.array(self.status_names)[np.asarray(raw["status"], dtype=np.intp)]
         self.errors: List[Optional[str]] = list(raw["errors"])
         self.exceptions: List[Optional[BaseException]] = list(raw["exceptions"])
         self.stats: Dict[str, np.ndarray] = dict(raw["summary"])
@@ -167,17 +168,21 @@ class EnsembleSolution:
         """Embedding velocities, ``(N, records, E)``."""
         return self._group("velocity")
 
+    def _vectors(self, group: str) -> np.ndarray:
+        """A group of frame-shaped columns as ``(N, records, N_frame, E)``."""
+        a = self._group(group)
+        shape = self.frame_shape if a.shape[2] else (0, 0)
+        return a.reshape(a.shape[0], a.shape[1], *shape)
+
     @property
     def frame(self) -> np.ndarray:
         """Body frame vectors, ``(N, records, N_frame, E)``."""
-        a = self._group("frame")
-        return a.reshape(a.shape[0], a.shape[1], *self.frame_shape) if a.shape[2] else a.reshape(a.shape[0], a.shape[1], 0, 0)
+        return self._vectors("frame")
 
     @property
     def frame_rate(self) -> np.ndarray:
         """Affine bodies: ``De_A/Dt``, ``(N, records, N_frame, E)``."""
-        a = self._group("frame_rate")
-        return a.reshape(a.shape[0], a.shape[1], *self.frame_shape) if a.shape[2] else a.reshape(a.shape[0], a.shape[1], 0, 0)
+        return self._vectors("frame_rate")
 
     @property
     def energy(self) -> np.ndarray:

@@ -129,7 +129,7 @@ def _table_chunk(base: Any, names: List[str], cols: List[Any], keep: str, sample
         user_potential=user_potential, user_gradient=user_gradient,
     )
     part: Dict[str, Any] = {
-        "status": out.status, "errors": out.errors, "stats": out.stats, "columns": out.columns, "units": out.units,
+        "status": out.status, "status_names": out.status_names, "errors": out.errors, "stats": out.stats, "columns": out.columns, "units": out.units,
         "groups": out.groups, "frame_shape": out.frame_shape, "method": out.method,
         "exceptions": [None if e is None else repr(e) for e in out.exceptions],
     }
@@ -247,12 +247,13 @@ def solve_table(
     errors = [e for p in parts for e in p["errors"]]
     stats = {k: np.concatenate([p["stats"][k] for p in parts]) for k in parts[0]["stats"]}
     columns: List[str] = next((p["columns"] for p in parts if p["columns"]), [])
+    names_of_status: List[str] = parts[0]["status_names"]
+    codes = {s: i for i, s in enumerate(names_of_status)}
     if store is not None:
         g = _zarr().open_group(store, mode="r+")
-        codes = {s: i for i, s in enumerate(("finished", "event", "cancelled", "failed", "invalid"))}
         st = g.create_array("status", shape=(n,), chunks=(chunk_size,), dtype="i1")
         st[:] = np.array([codes[str(s)] for s in status], dtype=np.int8)
-        g.attrs["status_names"] = list(codes)
+        g.attrs["status_names"] = names_of_status
         for k, v in stats.items():
             g.create_array(k, shape=(n,), chunks=(chunk_size,), dtype="f8")[:] = v
         return StoredEnsemble(store, status, errors, stats, columns)
@@ -268,8 +269,8 @@ def solve_table(
         "columns": columns, "units": next((p["units"] for p in parts if p["columns"]), []),
         "groups": next((p["groups"] for p in parts if p["columns"]), []),
         "frame_shape": next((p["frame_shape"] for p in parts if p["columns"]), (0, 0)),
-        "status_names": ["finished", "event", "cancelled", "failed", "invalid"],
-        "status": np.array([["finished", "event", "cancelled", "failed", "invalid"].index(str(s)) for s in status], dtype=np.uint8),
+        "status_names": names_of_status,
+        "status": np.array([codes[str(s)] for s in status], dtype=np.uint8),
         "errors": errors, "exceptions": [None] * n, "summary": stats, "method": parts[0]["method"] if parts else None,
         "events": {
             "member": np.concatenate([p["event_member"] + k for p, k in zip(parts, shift)]) if parts else np.empty(0, np.int64),
