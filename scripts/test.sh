@@ -3,9 +3,11 @@
 # workspace in one shared dev profile (dependencies optimised, see Cargo.toml),
 # unit tests, the integration suite, doctests and examples. Python: the
 # extension is built by maturin from the same target directory and profile
-# (the environment below makes pyo3's build configuration identical, so the
-# dependency stack is compiled once), installed into `.venv/`, and tested with
-# pytest.
+# (the environment below makes pyo3's build configuration identical, and the
+# feature pins in crates/framedyn-py/Cargo.toml the dependency graph, so the
+# dependency stack and the core are compiled once), installed into `.venv/`,
+# and tested with pytest. docs/development.md: what each step builds and how
+# long it takes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # Each property test runs its own case count: 256 (proptest's default)
@@ -36,16 +38,40 @@ PYEOF
 )"
 export PYO3_ENVIRONMENT_SIGNATURE
 
+# Everything below shares one dependency graph, so the core crate is compiled
+# once for the Rust tests, the examples and the Python extension (see
+# docs/development.md). Every cargo command selects the whole workspace with
+# its dev-dependencies (`--workspace` and test or example targets): a command
+# on one package (`cargo run -p framedyn --example ...`) resolves fewer
+# features in shared dependencies and recompiles the core.
 cargo test --workspace --all-targets
 cargo test --workspace --doc
 # The API docs build without warnings (broken intra-doc links, missing docs).
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 # The examples compare what they measure with the paper's closed forms and
-# exit with status 1 on a mismatch.
-for example in transport_through_pole s2_bodies h2_bodies t2_bodies s3_bodies potential_families user_potential; do
-    cargo run --quiet -p framedyn --example "$example"
+# exit with status 1 on a mismatch. `cargo test` compiles them only as test
+# harnesses (no `main`); this builds the programs themselves.
+examples=(transport_through_pole s2_bodies h2_bodies t2_bodies s3_bodies potential_families user_potential)
+cargo build --quiet --workspace "${examples[@]/#/--example=}"
+for example in "${examples[@]}"; do
+    echo "example $example"
+    "target/debug/examples/$example"
 done
 
+# maturin builds the extension crate alone; crates/framedyn-py/Cargo.toml
+# pins the features that the workspace build turns on, so that the core's
+# dependency graph is the same and only the extension crate is compiled.
+# If a dependency update breaks that, say so instead of silently doubling
+# the build time.
+stamp="$(mktemp)"
 "$FRAMEDYN_VENV/bin/maturin" develop --quiet
+if [ -n "$(find target/debug/deps -maxdepth 1 -name 'libframedyn-*.rlib' -newer "$stamp")" ]; then
+    echo "maturin compiled the core crate a second time: a shared dependency's features differ between" >&2
+    echo "'cargo test --workspace' and the extension's build; update the feature pins in" >&2
+    echo "crates/framedyn-py/Cargo.toml (docs/development.md explains how to find them)." >&2
+    rm -f "$stamp"
+    exit 1
+fi
+rm -f "$stamp"
 # The Agg backend: the plotting tests draw without a display.
 MPLBACKEND=Agg "$PY" -m pytest python/tests -q

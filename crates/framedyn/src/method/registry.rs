@@ -208,7 +208,11 @@ where
         }
     }
 
-    #[inline(always)]
+    // Not forced inline: every method's step is inlined here, once per
+    // model; the driver calls this from several places (fixed and adaptive
+    // loops, sub-steps for dense output, the stepping API), and inlining it
+    // into each of them copied every method's code into each and made the
+    // dev build of the scene engine ~6× larger for LLVM (docs/development.md).
     fn step(&self, sys: &S, t: f64, y: &S::State, h: f64, req: StepRequest<Alg<S>>) -> Result<StepOutput<S::State>, StepFault> {
         match self {
             AnyMethod::Rkmk1(m) => m.step(sys, t, y, h, req),
