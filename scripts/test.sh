@@ -20,7 +20,12 @@ cd "$(dirname "$0")/.."
 # other number) to explore new cases.
 if [ "${PROPTEST_RNG_SEED:-}" = random ]; then unset PROPTEST_RNG_SEED; else export PROPTEST_RNG_SEED="${PROPTEST_RNG_SEED:-20261122}"; fi
 
+# Each step's wall time, printed when it ends (docs/development.md).
+step_start=$SECONDS
+step() { echo "[test.sh] $1: $((SECONDS - step_start)) s"; step_start=$SECONDS; }
+
 ./scripts/python-env.sh
+step "python environment"
 export FRAMEDYN_VENV="${FRAMEDYN_VENV:-$PWD/.venv}"
 PY="$FRAMEDYN_VENV/bin/python"
 # What maturin sets when it builds the extension; set for cargo too, so that
@@ -45,9 +50,12 @@ export PYO3_ENVIRONMENT_SIGNATURE
 # on one package (`cargo run -p framedyn --example ...`) resolves fewer
 # features in shared dependencies and recompiles the core.
 cargo test --workspace --all-targets
+step "cargo test (build and run)"
 cargo test --workspace --doc
+step "doctests"
 # The API docs build without warnings (broken intra-doc links, missing docs).
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
+step "cargo doc"
 # The examples compare what they measure with the paper's closed forms and
 # exit with status 1 on a mismatch. `cargo test` compiles them only as test
 # harnesses (no `main`); this builds the programs themselves.
@@ -57,6 +65,7 @@ for example in "${examples[@]}"; do
     echo "example $example"
     "target/debug/examples/$example"
 done
+step "examples (build and run)"
 
 # maturin builds the extension crate alone; crates/framedyn-py/Cargo.toml
 # pins the features that the workspace build turns on, so that the core's
@@ -73,5 +82,7 @@ if [ -n "$(find target/debug/deps -maxdepth 1 -name 'libframedyn-*.rlib' -newer 
     exit 1
 fi
 rm -f "$stamp"
+step "maturin develop"
 # The Agg backend: the plotting tests draw without a display.
 MPLBACKEND=Agg "$PY" -m pytest python/tests -q
+step "pytest"
