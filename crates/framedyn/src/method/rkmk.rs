@@ -489,7 +489,10 @@ where
         }
     }
 
-    #[inline(always)]
+    // A hint, not forced: the driver calls a step from several loops (fixed,
+    // adaptive, dense-output sub-steps, the stepper); forced inlining copied
+    // the whole step into each (docs/development.md).
+    #[inline]
     fn step(
         &self,
         sys: &Sys,

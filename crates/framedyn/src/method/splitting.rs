@@ -243,7 +243,10 @@ where
     /// The composition, then renormalisation. The vector field is evaluated
     /// only for dense output (`f` at both ends, cubic Hermite in
     /// `Θ = log(y₀⁻¹y₁)`); without it `theta` and `f_start` are zero.
-    #[inline(always)]
+    // A hint, not forced: the driver calls a step from several loops (fixed,
+    // adaptive, dense-output sub-steps, the stepper); forced inlining copied
+    // the whole step into each (docs/development.md).
+    #[inline]
     fn step(
         &self,
         sys: &S,
