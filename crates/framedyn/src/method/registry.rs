@@ -208,11 +208,14 @@ where
         }
     }
 
-    // Not forced inline: every method's step is inlined here, once per
-    // model; the driver calls this from several places (fixed and adaptive
-    // loops, sub-steps for dense output, the stepping API), and inlining it
-    // into each of them copied every method's code into each and made the
-    // dev build of the scene engine ~6× larger for LLVM (docs/development.md).
+    // Every method's step is inlined here, once per model. Forced inline
+    // into the driver's loops in optimised builds (the step specialises on
+    // the loop's constant request); not in builds with debug assertions
+    // (tests): the driver calls this from several places (fixed and
+    // adaptive loops, sub-steps for dense output, the stepping API), and a
+    // copy of every method in each made the scene engine's test build twice
+    // as large for LLVM (docs/development.md).
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn step(&self, sys: &S, t: f64, y: &S::State, h: f64, req: StepRequest<Alg<S>>) -> Result<StepOutput<S::State>, StepFault> {
         match self {
             AnyMethod::Rkmk1(m) => m.step(sys, t, y, h, req),
