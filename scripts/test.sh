@@ -60,10 +60,11 @@ step "cargo doc"
 # exit with status 1 on a mismatch. `cargo test` compiles them only as test
 # harnesses (no `main`); this builds the programs themselves.
 examples=(transport_through_pole s2_bodies h2_bodies t2_bodies s3_bodies potential_families user_potential)
+target_dir="${CARGO_TARGET_DIR:-target}"
 cargo build --quiet --workspace "${examples[@]/#/--example=}"
 for example in "${examples[@]}"; do
     echo "example $example"
-    "target/debug/examples/$example"
+    "$target_dir/debug/examples/$example"
 done
 step "examples (build and run)"
 
@@ -73,15 +74,14 @@ step "examples (build and run)"
 # If a dependency update breaks that, say so instead of silently doubling
 # the build time.
 stamp="$(mktemp)"
+trap 'rm -f "$stamp"' EXIT
 "$FRAMEDYN_VENV/bin/maturin" develop --quiet
-if [ -n "$(find target/debug/deps -maxdepth 1 -name 'libframedyn-*.rlib' -newer "$stamp")" ]; then
+if [ -n "$(find "$target_dir/debug/deps" -maxdepth 1 -name 'libframedyn-*.rlib' -newer "$stamp")" ]; then
     echo "maturin compiled the core crate a second time: a shared dependency's features differ between" >&2
     echo "'cargo test --workspace' and the extension's build; update the feature pins in" >&2
     echo "crates/framedyn-py/Cargo.toml (docs/development.md explains how to find them)." >&2
-    rm -f "$stamp"
     exit 1
 fi
-rm -f "$stamp"
 step "maturin develop"
 # The Agg backend: the plotting tests draw without a display.
 MPLBACKEND=Agg "$PY" -m pytest python/tests -q

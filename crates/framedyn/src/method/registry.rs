@@ -209,12 +209,10 @@ where
     }
 
     // Every method's step is inlined here, once per model. Forced inline
-    // into the driver's loops in optimised builds (the step specialises on
-    // the loop's constant request); not in builds with debug assertions
-    // (tests): the driver calls this from several places (fixed and
-    // adaptive loops, sub-steps for dense output, the stepping API), and a
-    // copy of every method in each made the scene engine's test build twice
-    // as large for LLVM (docs/development.md).
+    // into the driver's loops only in optimised builds (the step specialises
+    // on the loop's constant request); in builds with debug assertions
+    // (tests) it is called, so that the driver's several call sites do not
+    // each carry a copy of every method (docs/development.md).
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn step(&self, sys: &S, t: f64, y: &S::State, h: f64, req: StepRequest<Alg<S>>) -> Result<StepOutput<S::State>, StepFault> {
         match self {

@@ -243,13 +243,11 @@ where
     /// The composition, then renormalisation. The vector field is evaluated
     /// only for dense output (`f` at both ends, cubic Hermite in
     /// `Θ = log(y₀⁻¹y₁)`); without it `theta` and `f_start` are zero.
-    // Forced inline in optimised builds: inlined into its caller, the step
-    // is specialised on the caller's constant request (no error estimate,
-    // no dense output): not inlined, the steps of the per-step benchmark
-    // measured 8–45 % slower. Only a hint in builds with debug assertions (tests): the
-    // driver calls a step from several loops (fixed, adaptive, dense-output
-    // sub-steps, the stepper) and forced inlining copied the whole step into
-    // each, doubling the test build (docs/development.md).
+    // Forced inline only in optimised builds, where inlining specialises the
+    // step on the caller's constant request; a hint in builds with debug
+    // assertions (tests), where forcing it copied the whole step into each of
+    // the driver's call sites (docs/development.md, "What the core's size is
+    // made of").
     #[cfg_attr(not(debug_assertions), inline(always))]
     #[cfg_attr(debug_assertions, inline)]
     fn step(
