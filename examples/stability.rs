@@ -2,7 +2,7 @@
 //!
 //! Run through the documented command `python3 scripts/stability.py` (which
 //! also runs scipy on the pole trajectory and draws the charts), or alone:
-//! `cargo run --release --example stability -- --out docs/data [--quick] [--long-steps N] [--only SECTIONS]`
+//! `cargo run --profile measure --example stability -- --out docs/data [--quick] [--long-steps N] [--only SECTIONS]`
 //! (`--only steps,bounce` reruns those sections; the output is deterministic
 //! apart from the CPU times).
 //!

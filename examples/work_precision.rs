@@ -4,7 +4,7 @@
 //!
 //! Run through the documented command `python3 scripts/work_precision.py`
 //! (which also times scipy and draws the charts), or alone:
-//! `cargo run --release --example work_precision -- --out docs/data [--quick]`.
+//! `cargo run --profile measure --example work_precision -- --out docs/data [--quick]`.
 //!
 //! Writes into `--out`:
 //! - `wp_rust.csv`: method, problem, setting (h or tol), final error (max

@@ -5,7 +5,7 @@
     python3 scripts/work_precision.py --quick    # smoke run (T = 20, fewer settings)
 
 Steps:
-1. `cargo run --release --example work_precision -- --out docs/data` writes the
+1. `cargo run --profile measure --example work_precision -- --out docs/data` writes the
    Rust results (wp_rust.csv), the references (references.csv), the S²
    gyroscope in the paper's coordinates (s2_problem.csv) and sample values of
    the Rust coordinate form (s2_samples.csv), and defect/energy time series
@@ -326,7 +326,7 @@ def main():
         summary(rows)
         return 0
     if not args.no_cargo:
-        cmd = ["cargo", "run", "--release", "-p", "framedyn", "--example", "work_precision", "--", "--out", DATA]
+        cmd = ["cargo", "run", "--profile", "measure", "-p", "framedyn", "--example", "work_precision", "--", "--out", DATA]
         if args.quick:
             cmd.append("--quick")
         print("+", " ".join(cmd), flush=True)

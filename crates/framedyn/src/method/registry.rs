@@ -23,7 +23,7 @@
 use super::baseline::{ChartSystem, CoordinateRk};
 use super::{Alg, GroupNumerics, ImplicitMidpoint, Method, MethodError, MethodInfo, Rkmk, Splitting, StepFault, StepOutput, StepRequest};
 use crate::coords::Lagrangian;
-use crate::dynamics::SplitDispatch;
+use crate::dynamics::{SplitDispatch, System};
 
 /// The kind of a method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -208,27 +208,36 @@ where
         }
     }
 
-    // Every method's step is inlined here, once per model. Forced inline
-    // into the driver's loops only in optimised builds (the step specialises
-    // on the loop's constant request); in builds with debug assertions
-    // (tests) it is called, so that the driver's several call sites do not
-    // each carry a copy of every method (docs/development.md).
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    // A dispatch, called (not inlined) from the driver's loops: inlined, it
+    // copied every method's step into every loop of every model, and the
+    // release build of the core took three times as long
+    // (docs/development.md). The implicit midpoint rule is called directly:
+    // its step is not inlined anywhere.
     fn step(&self, sys: &S, t: f64, y: &S::State, h: f64, req: StepRequest<Alg<S>>) -> Result<StepOutput<S::State>, StepFault> {
         match self {
-            AnyMethod::Rkmk1(m) => m.step(sys, t, y, h, req),
-            AnyMethod::Rkmk2(m) => m.step(sys, t, y, h, req),
-            AnyMethod::Rkmk3(m) => m.step(sys, t, y, h, req),
-            AnyMethod::Rkmk4(m) => m.step(sys, t, y, h, req),
-            AnyMethod::Rkmk7(m) => m.step(sys, t, y, h, req),
-            AnyMethod::Rkmk12(m) => m.step(sys, t, y, h, req),
+            AnyMethod::Rkmk1(m) => own_step(m, sys, t, y, h, req),
+            AnyMethod::Rkmk2(m) => own_step(m, sys, t, y, h, req),
+            AnyMethod::Rkmk3(m) => own_step(m, sys, t, y, h, req),
+            AnyMethod::Rkmk4(m) => own_step(m, sys, t, y, h, req),
+            AnyMethod::Rkmk7(m) => own_step(m, sys, t, y, h, req),
+            AnyMethod::Rkmk12(m) => own_step(m, sys, t, y, h, req),
             AnyMethod::Implicit(m) => m.step(sys, t, y, h, req),
             AnyMethod::Split(m) => match sys.as_splittable() {
-                Some(s) => Method::<S::Split>::step(m, s, t, y, h, req),
+                Some(s) => own_step(m, s, t, y, h, req),
                 None => Err(StepFault::Unsupported { method: m.method_info().name, reason: Needs::ExactFreeFlow.describe() }),
             },
         }
     }
+}
+
+/// One method's step as a function of its own (per model and method), so
+/// that [`AnyMethod::step`] is a dispatch over calls rather than every
+/// method's step inlined into one function: LLVM optimises several functions
+/// of ordinary size faster, and with better inlining inside them, than one
+/// function of tens of thousands of lines.
+#[inline(never)]
+fn own_step<S: System, M: Method<S>>(m: &M, sys: &S, t: f64, y: &S::State, h: f64, req: StepRequest<Alg<S>>) -> Result<StepOutput<S::State>, StepFault> {
+    m.step(sys, t, y, h, req)
 }
 
 /// The coordinate methods of the registry as one type: a [`Method`] for the
