@@ -24,7 +24,13 @@ def main(argv: Optional[List[str]] = None) -> int:
             file=sys.stderr,
         )
         return 2
-    return int(cli_main(args))
+    try:
+        return int(cli_main(args))
+    except KeyboardInterrupt:
+        # The run already stopped on the signal and wrote its partial result
+        # (exit code 130); Python's own handler, chained after the tool's,
+        # raises the interrupt once control is back here.
+        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

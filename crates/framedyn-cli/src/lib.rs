@@ -23,21 +23,36 @@
 //! parallel and writes every member's records, status and summary to one
 //! `.npz` (layout in [`sweep::write_ensemble`]); a member that is invalid or
 //! fails is recorded as such and does not stop the others (exit code 0;
-//! the summary counts them); Ctrl-C stops the running members and writes
-//! what was computed (exit code 130).
+//! the summary counts them).
 //!
-//! Exit codes: 0 success; 2 bad command line; 3 invalid scene; 4 integration
-//! failure (the output holds the part up to the last good state); 5 I/O
-//! error (no output file is left); 130 interrupted by Ctrl-C (the output
-//! holds the part computed so far).
+//! Outputs follow one policy ([`target`]): symbolic links are written
+//! through; directories, devices, FIFOs, sockets and read-only files are
+//! refused (exit 5); files appear complete or not at all (temporary file and
+//! rename). A run that fails or is interrupted never replaces the output:
+//! what it computed goes to `STEM.partial.EXT` beside it (a CSV ending with
+//! a `# partial: …` line, an `.npz` with `stop` = `partial: …`), the summary
+//! names that file, and the exit code says why.
+//!
+//! Signals ([`signals`]): SIGINT (Ctrl-C), SIGTERM and SIGHUP stop a run or
+//! a sweep, keep the part computed as a partial result, remove temporary
+//! files, and exit with 128 + the signal's number; a second signal exits at
+//! once.
+//!
+//! Exit codes: 0 success; 2 bad command line; 3 invalid scene or table;
+//! 4 integration failure (the partial result holds the records up to the
+//! last good state); 5 I/O error or refused output path (nothing is
+//! written); 129, 130, 143 stopped by SIGHUP, SIGINT, SIGTERM (the partial
+//! result holds the part computed so far).
 #![deny(missing_docs)]
 
 pub mod output;
+pub mod signals;
 pub mod sweep;
+pub mod target;
 
 use std::io::IsTerminal;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use clap::{Parser, Subcommand, ValueEnum};
@@ -49,8 +64,6 @@ const EXIT_INVALID: u8 = 3;
 const EXIT_INTEGRATION: u8 = 4;
 /// Exit code: I/O error.
 const EXIT_IO: u8 = 5;
-/// Exit code: interrupted (Ctrl-C), partial output kept.
-const EXIT_INTERRUPTED: u8 = 130;
 
 #[derive(Parser, Debug)]
 #[command(name = "framedyn", version, about = "Structured particles on curved manifolds: scenes in, trajectories out")]
@@ -203,10 +216,6 @@ where
     }
 }
 
-/// Set by Ctrl-C; one handler per process (installed on the first run),
-/// reset at the start of every run.
-static CANCEL: AtomicBool = AtomicBool::new(false);
-
 fn run(cli: Cli) -> Result<(), (u8, String)> {
     match cli.command {
         Command::Scenes { action: None } => {
@@ -255,29 +264,13 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
     }
 }
 
-/// Installs the Ctrl-C handler (once per process) and lowers the flag.
-fn arm_cancel() -> &'static AtomicBool {
-    static HANDLER: std::sync::Once = std::sync::Once::new();
-    HANDLER.call_once(|| {
-        // A second Ctrl-C ends the process at once (the temporary file is
-        // left behind; the output path is never half-written).
-        let _ = ctrlc::set_handler(move || {
-            if CANCEL.swap(true, Ordering::SeqCst) {
-                std::process::exit(i32::from(EXIT_INTERRUPTED));
-            }
-        });
-    });
-    CANCEL.store(false, Ordering::SeqCst);
-    &CANCEL
-}
-
 fn run_sweep(scene: Scene, origin: &str, table: &std::path::Path, output: &std::path::Path, keep: scenes::Keep, threads: Option<usize>, quiet: bool) -> Result<(), (u8, String)> {
     scene.validate().map_err(|e| (EXIT_INVALID, format!("{origin}: invalid scene: {e}")))?;
     let table = sweep::read_table(table).map_err(|e| match e {
         sweep::TableError::Io(m) => (EXIT_IO, m),
         sweep::TableError::Invalid(m) => (EXIT_INVALID, m),
     })?;
-    let cancel = arm_cancel();
+    let cancel = signals::arm();
     let n = table.len() as u64;
     let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
         let b = indicatif::ProgressBar::with_draw_target(Some(n), indicatif::ProgressDrawTarget::stderr());
@@ -298,8 +291,9 @@ fn run_sweep(scene: Scene, origin: &str, table: &std::path::Path, output: &std::
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
-    sweep::write_ensemble(output, &table, &out).map_err(|e| (EXIT_IO, format!("writing {}: {e} (no output written)", output.display())))?;
     let interrupted = cancel.load(Ordering::SeqCst);
+    let written = sweep::write_ensemble(output, &table, &out, interrupted)
+        .map_err(|e| (EXIT_IO, format!("writing {}: {e} (no output written)", output.display())))?;
     if !quiet {
         println!("scene:           {origin}");
         println!("members:         {} ({})", out.len(), sweep::status_counts(&out));
@@ -307,10 +301,19 @@ fn run_sweep(scene: Scene, origin: &str, table: &std::path::Path, output: &std::
             println!("first failure:   member {i}: {}", m.error.as_deref().unwrap_or(""));
         }
         println!("wall time:       {:.3} s", started.elapsed().as_secs_f64());
-        println!("output:          {} ({} records)", output.display(), out.offsets.last().copied().unwrap_or(0));
+        println!("output:          {} ({} records{})", written.display(), out.offsets.last().copied().unwrap_or(0), if interrupted { ", partial" } else { "" });
     }
     if interrupted {
-        return Err((EXIT_INTERRUPTED, format!("interrupted; {} holds the members computed so far (status `cancelled` for the rest)", output.display())));
+        let sig = signals::received().unwrap_or(2);
+        return Err((
+            signals::exit_code(sig),
+            format!(
+                "interrupted by {}; {} holds the members computed so far (status `cancelled` for the rest); {} was left as it was",
+                signals::name(sig),
+                written.display(),
+                output.display()
+            ),
+        ));
     }
     Ok(())
 }
@@ -325,9 +328,9 @@ fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option
         None if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv")) => Format::Csv,
         None => scene.output_format(),
     };
-    let mut sink = output::FileSink::create(&path, format).map_err(|e| (EXIT_IO, format!("cannot create output {}: {e}", path.display())))?;
+    let mut sink = output::FileSink::create(&path, format).map_err(|e| (EXIT_IO, format!("cannot write the output: {e}")))?;
 
-    let cancel = arm_cancel();
+    let cancel = signals::arm();
     let show_bar = !quiet && std::io::stderr().is_terminal();
     let started = Instant::now();
     let mut bar: Option<indicatif::ProgressBar> = None;
@@ -363,31 +366,63 @@ fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option
     }
     let events = sink.take_events();
     let event_columns = sink.column_names();
-    if let Err(e) = sink.finish() {
-        return Err((EXIT_IO, format!("writing {}: {e} (no output written)", path.display())));
+    // How the run ended decides where its records go: a complete run onto
+    // the target, a failed or interrupted one beside it as a partial result.
+    let signal = signals::received();
+    let failure = match (&summary.stop, &err) {
+        (_, Some(e)) => Some((EXIT_INTEGRATION, e.to_string())),
+        (SceneStop::Cancelled, None) => {
+            let sig = signal.unwrap_or(2);
+            Some((signals::exit_code(sig), format!("interrupted by {} at t = {}", signals::name(sig), summary.t_reached)))
+        }
+        _ => None,
+    };
+    let no_output = |e: std::io::Error| (EXIT_IO, format!("writing {}: {e} (no output written)", path.display()));
+    let events_target = if sim.events().is_empty() {
+        None
+    } else if failure.is_some() {
+        Some(output::events_path(sink.target().partial().map_err(no_output)?.resolved()))
+    } else {
+        Some(output::events_path(&path))
+    };
+    let pending = match &events_target {
+        Some(ep) => match output::prepare_events(ep, &event_columns, &events) {
+            Ok(p) => Some(p),
+            Err(e) => {
+                sink.abort();
+                return Err(no_output(e));
+            }
+        },
+        None => None,
+    };
+    let written = match &failure {
+        None => sink.finish(&summary.stop.to_string()),
+        Some((_, reason)) => sink.finish_partial(reason),
     }
-    let events_file = (!sim.events().is_empty()).then(|| output::events_path(&path));
-    if let Some(ep) = &events_file {
-        output::write_events(ep, &event_columns, &events).map_err(|e| (EXIT_IO, format!("writing {}: {e}", ep.display())))?;
-    }
+    .map_err(no_output)?;
+    let events_written = match pending {
+        Some(p) => Some(p.commit().map_err(|e| (EXIT_IO, format!("{} was written, but not its events file: {e}", written.display())))?),
+        None => None,
+    };
     if !quiet {
         println!("scene:           {origin}");
         println!("{summary}");
-        println!("output:          {} ({} records, {})", path.display(), summary.records, if format == Format::Npz { "npz" } else { "csv" });
-        if let Some(ep) = &events_file {
+        println!(
+            "output:          {} ({} records, {}{})",
+            written.display(),
+            summary.records,
+            if format == Format::Npz { "npz" } else { "csv" },
+            if failure.is_some() { ", partial" } else { "" }
+        );
+        if let Some(ep) = &events_written {
             println!("events:          {} ({} events)", ep.display(), events.len());
         }
     }
-    match (&summary.stop, err) {
-        (_, Some(RunError::Integration(e))) => Err((
-            EXIT_INTEGRATION,
-            format!("integration failed: {e}; {} holds the {} records up to the last good state", path.display(), summary.records),
+    match failure {
+        None => Ok(()),
+        Some((code, reason)) => Err((
+            code,
+            format!("{reason}; {} holds the {} records computed; {} was left as it was", written.display(), summary.records, path.display()),
         )),
-        (_, Some(e)) => Err((EXIT_IO, e.to_string())),
-        (SceneStop::Cancelled, None) => Err((
-            EXIT_INTERRUPTED,
-            format!("interrupted at t = {}; {} holds the {} records computed so far", summary.t_reached, path.display(), summary.records),
-        )),
-        _ => Ok(()),
     }
 }

@@ -1,11 +1,13 @@
 //! Streamed, atomic output files: CSV with a header, or a numpy `.npz`.
 //!
-//! Records go to a temporary file next to the target (`.NAME.tmp-PID`); the
-//! target appears only by a rename once the file is complete, so an
-//! interrupted or failed run never leaves a corrupt file at the output path.
-//! For `.npz` the rows are streamed to a raw temporary file first (the
-//! `.npy` header needs the row count), then copied into the archive: memory
-//! stays flat however many records are written.
+//! Where the file goes — symlinks, special and read-only files, temporary
+//! names, partial results — is the policy of [`crate::target`]. Records go
+//! to a temporary file beside the target (`.NAME.tmp-PID`); the target
+//! appears only by a rename once the file is complete, so an interrupted or
+//! failed run never leaves a corrupt file at the output path. For `.npz` the
+//! rows are streamed to a raw temporary file first (the `.npy` header needs
+//! the row count), then copied into the archive: memory stays flat however
+//! many records are written.
 
 use std::fs::{self, File};
 use std::io::{self, BufReader, BufWriter, Read, Write};
@@ -13,9 +15,11 @@ use std::path::{Path, PathBuf};
 
 use framedyn::scenes::{Column, EventHit, Format, RecordSink};
 
+use crate::target::Target;
+
 /// A record sink writing a CSV or `.npz` file atomically.
 pub struct FileSink {
-    target: PathBuf,
+    target: Target,
     tmp: PathBuf,
     raw: Option<PathBuf>,
     format: Format,
@@ -27,30 +31,22 @@ pub struct FileSink {
     events: Vec<EventHit>,
 }
 
-/// A hidden temporary file next to `target` (`.NAME.SUFFIX-PID`).
-pub(crate) fn sibling(target: &Path, suffix: &str) -> PathBuf {
-    let name = target.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "output".into());
-    let dir = target.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or_else(|| Path::new("."));
-    dir.join(format!(".{name}.{suffix}-{}", std::process::id()))
-}
-
 impl FileSink {
-    /// A sink for `target` (its directory must exist and be writable).
+    /// A sink for `target`, checked against the output policy
+    /// ([`Target::resolve`]).
     pub fn create(target: &Path, format: Format) -> io::Result<FileSink> {
-        if target.is_dir() {
-            return Err(io::Error::new(io::ErrorKind::InvalidInput, "the output path is a directory"));
-        }
-        let tmp = sibling(target, "tmp");
+        let target = Target::resolve(target)?;
+        let tmp = target.temporary("tmp");
         let (raw, file) = match format {
             Format::Csv => (None, File::create(&tmp)?),
             Format::Npz => {
-                let raw = sibling(target, "raw");
+                let raw = target.temporary("raw");
                 let f = File::create(&raw)?;
                 (Some(raw), f)
             }
         };
         Ok(FileSink {
-            target: target.to_path_buf(),
+            target,
             tmp,
             raw,
             format,
@@ -67,27 +63,55 @@ impl FileSink {
         self.out.as_mut().ok_or_else(|| io::Error::other("output already closed"))
     }
 
-    /// Completes the file and renames it onto the target.
-    pub fn finish(mut self) -> io::Result<()> {
-        let res = self.finish_inner();
+    /// The target as resolved (symbolic links followed).
+    pub fn target(&self) -> &Target {
+        &self.target
+    }
+
+    /// Completes the file and renames it onto the target. `stop` is how
+    /// the run ended (`.npz` keeps it as `stop.npy`).
+    pub fn finish(self, stop: &str) -> io::Result<PathBuf> {
+        let target = self.target.clone();
+        self.finish_to(&target, stop, None)
+    }
+
+    /// Completes the file as a partial result: renamed onto
+    /// `STEM.partial.EXT` ([`Target::partial`]), never onto the target; a
+    /// CSV ends with the comment line `# partial: REASON`, an `.npz` has
+    /// `stop.npy` = `partial: REASON`. Returns the path written.
+    pub fn finish_partial(self, reason: &str) -> io::Result<PathBuf> {
+        let partial = match self.target.partial() {
+            Ok(p) => p,
+            Err(e) => {
+                self.abort();
+                return Err(e);
+            }
+        };
+        self.finish_to(&partial, &format!("partial: {reason}"), Some(reason))
+    }
+
+    fn finish_to(mut self, dest: &Target, stop: &str, partial: Option<&str>) -> io::Result<PathBuf> {
+        let res = self.finish_inner(dest, stop, partial);
         if res.is_err() {
             self.cleanup();
         }
-        res
+        res.map(|()| dest.resolved().to_path_buf())
     }
 
-    fn finish_inner(&mut self) -> io::Result<()> {
+    fn finish_inner(&mut self, dest: &Target, stop: &str, partial: Option<&str>) -> io::Result<()> {
         let mut out = self.out.take().ok_or_else(|| io::Error::other("output already closed"))?;
+        if let (Format::Csv, Some(reason)) = (self.format, partial) {
+            writeln!(out, "# partial: {}", reason.replace('\n', " "))?;
+        }
         out.flush()?;
         let file = out.into_inner().map_err(|e| e.into_error())?;
         file.sync_all()?;
         drop(file);
         if let (Format::Npz, Some(raw)) = (self.format, &self.raw) {
-            write_npz(&self.tmp, raw, &self.names, &self.units, self.rows)?;
+            write_npz(&self.tmp, raw, &self.names, &self.units, self.rows, stop)?;
             let _ = fs::remove_file(raw);
         }
-        fs::rename(&self.tmp, &self.target)?;
-        Ok(())
+        dest.commit(&self.tmp)
     }
 
     /// Removes the temporary files; the target is left untouched.
@@ -147,20 +171,24 @@ pub fn write_records(target: &Path, format: Format, names: &[String], units: &[S
             sink.record(row)?;
         }
     }
-    sink.finish()
+    sink.finish("finished").map(|_| ())
 }
 
 /// The events file of the output `target`: `NAME.events.csv` beside it
-/// (`traj.csv` → `traj.events.csv`, `traj.npz` → `traj.events.csv`).
+/// (`traj.csv` or `traj.npz` → `traj.events.csv`; a partial result's
+/// `traj.partial.csv` → `traj.partial.events.csv`).
 pub fn events_path(target: &Path) -> PathBuf {
     let stem = target.file_stem().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "output".into());
     target.with_file_name(format!("{stem}.events.csv"))
 }
 
-/// Writes the events as CSV (header `event,rising,terminal,` and the record
-/// columns; one line per located event, in time order), atomically.
-pub fn write_events(target: &Path, columns: &[String], events: &[EventHit]) -> io::Result<()> {
+/// The events as CSV (header `event,rising,terminal,` and the record
+/// columns; one line per located event, in time order), written to a
+/// temporary file beside `target` (checked against the output policy):
+/// [`PendingFile::commit`] renames it onto `target`, dropping it removes it.
+pub fn prepare_events(target: &Path, columns: &[String], events: &[EventHit]) -> io::Result<PendingFile> {
     use std::fmt::Write as _;
+    let target = Target::resolve(target)?;
     let mut text = String::from("event,rising,terminal");
     for c in columns {
         text.push(',');
@@ -174,11 +202,38 @@ pub fn write_events(target: &Path, columns: &[String], events: &[EventHit]) -> i
         }
         text.push('\n');
     }
-    let tmp = sibling(target, "tmp");
-    fs::write(&tmp, text)?;
-    fs::rename(&tmp, target).inspect_err(|_| {
-        let _ = fs::remove_file(&tmp);
-    })
+    let tmp = target.temporary("tmp");
+    let pending = PendingFile { target, tmp: Some(tmp) };
+    let path = pending.tmp.as_deref().unwrap_or(Path::new(""));
+    let mut f = File::create(path)?;
+    f.write_all(text.as_bytes())?;
+    f.sync_all()?;
+    Ok(pending)
+}
+
+/// A complete temporary file waiting to be renamed onto its target.
+pub struct PendingFile {
+    target: Target,
+    tmp: Option<PathBuf>,
+}
+
+impl PendingFile {
+    /// Renames the file onto its target; returns the path written.
+    pub fn commit(mut self) -> io::Result<PathBuf> {
+        let tmp = self.tmp.take().ok_or_else(|| io::Error::other("already committed"))?;
+        self.target.commit(&tmp).inspect_err(|_| {
+            let _ = fs::remove_file(&tmp);
+        })?;
+        Ok(self.target.resolved().to_path_buf())
+    }
+}
+
+impl Drop for PendingFile {
+    fn drop(&mut self) {
+        if let Some(t) = &self.tmp {
+            let _ = fs::remove_file(t);
+        }
+    }
 }
 
 impl RecordSink for FileSink {
@@ -266,8 +321,8 @@ pub(crate) fn npy_strings(items: &[&str]) -> Vec<u8> {
 }
 
 /// Writes the archive: `data` (rows × columns, float64), `columns` and
-/// `units` (strings).
-fn write_npz(path: &Path, raw: &Path, names: &[String], units: &[String], rows: u64) -> io::Result<()> {
+/// `units` (strings), and `stop` (one string: how the run ended).
+fn write_npz(path: &Path, raw: &Path, names: &[String], units: &[String], rows: u64, stop: &str) -> io::Result<()> {
     use zip::write::SimpleFileOptions;
     let file = File::create(path)?;
     let mut zip = zip::ZipWriter::new(BufWriter::new(file));
@@ -290,6 +345,8 @@ fn write_npz(path: &Path, raw: &Path, names: &[String], units: &[String], rows: 
     zip.write_all(&npy_strings(&names))?;
     zip.start_file("units.npy", opts).map_err(to_io)?;
     zip.write_all(&npy_strings(&units))?;
+    zip.start_file("stop.npy", opts).map_err(to_io)?;
+    zip.write_all(&npy_strings(&[stop]))?;
     let mut inner = zip.finish().map_err(to_io)?;
     inner.flush()?;
     inner.into_inner().map_err(|e| e.into_error())?.sync_all()?;

@@ -8,11 +8,12 @@
 
 use std::fs::{self, File};
 use std::io::{self, BufRead, BufReader, BufWriter, Read, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use framedyn::scenes::{Ensemble, MemberStatus, Table};
 
-use crate::output::{npy_header, npy_strings, sibling};
+use crate::output::{npy_header, npy_strings};
+use crate::target::Target;
 
 /// Why a table could not be read: the message names the file, the line or
 /// array, and what was expected.
@@ -161,11 +162,16 @@ fn npy_i64(values: &[i64]) -> Vec<u8> {
 /// `energy_initial`, `energy_drift`, `momentum_map_drift`, `max_defect`,
 /// `t_reached` (NaN for invalid members), and the table itself as
 /// `table.<field>`.
-pub fn write_ensemble(target: &Path, table: &Table, out: &Ensemble) -> io::Result<()> {
-    if target.is_dir() {
-        return Err(io::Error::new(io::ErrorKind::InvalidInput, "the output path is a directory"));
+///
+/// `target` is checked against the output policy ([`crate::target`]); with
+/// `partial` (an interrupted sweep) the file goes to `STEM.partial.npz`
+/// instead and the target is left as it was. Returns the path written.
+pub fn write_ensemble(target: &Path, table: &Table, out: &Ensemble, partial: bool) -> io::Result<PathBuf> {
+    let mut dest = Target::resolve(target)?;
+    if partial {
+        dest = dest.partial()?;
     }
-    let tmp = sibling(target, "tmp");
+    let tmp = dest.temporary("tmp");
     let result = (|| -> io::Result<()> {
         use zip::write::SimpleFileOptions;
         let file = File::create(&tmp)?;
@@ -208,12 +214,12 @@ pub fn write_ensemble(target: &Path, table: &Table, out: &Ensemble) -> io::Resul
         let mut inner = zip.finish().map_err(to_io)?;
         inner.flush()?;
         inner.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-        fs::rename(&tmp, target)
+        dest.commit(&tmp)
     })();
     if result.is_err() {
         let _ = fs::remove_file(&tmp);
     }
-    result
+    result.map(|()| dest.resolved().to_path_buf())
 }
 
 /// `N finished, k failed, …` for the summary.

@@ -37,10 +37,11 @@ fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
-/// Parses a CSV written by the tool: header and rows of numbers.
+/// Parses a CSV written by the tool: header and rows of numbers (a partial
+/// result's closing `# partial: …` line is skipped).
 fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let text = fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
     let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
     let rows: Vec<Vec<f64>> = lines
         .map(|l| {
@@ -84,6 +85,15 @@ fn read_npz(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
         .collect();
     assert_eq!(names.len(), m);
     (names, vals.chunks(m).map(|r| r.to_vec()).collect())
+}
+
+/// The one string of `stop.npy` in a run's `.npz`.
+fn npz_stop(path: &Path) -> String {
+    let mut z = zip::ZipArchive::new(fs::File::open(path).unwrap()).unwrap();
+    let mut v = Vec::new();
+    z.by_name("stop.npy").unwrap().read_to_end(&mut v).unwrap();
+    let (_, payload) = parse_npy(&v);
+    payload.chunks(4).map(|u| u32::from_le_bytes(u.try_into().unwrap())).filter(|&u| u != 0).filter_map(char::from_u32).collect()
 }
 
 /// Equal values, NaN equal to NaN (coordinates at a chart pole).
@@ -211,11 +221,22 @@ fn exit_codes_and_messages() {
     // Integration failure: the step limit is hit after 50 adaptive steps.
     let failing = text.replace("name = \"rk4\"\nh = 0.005", "name = \"dopri5\"\nrtol = 1e-10\natol = 1e-12\nmax_steps = 50").replace("every = 4", "every = 1");
     fs::write(dir.join("fail.toml"), &failing).unwrap();
-    let o = framedyn(&["run", "fail.toml", "--output", "partial.csv"], &dir);
+    // A complete file from an earlier run is not replaced by the failed
+    // run's records: those go to STEM.partial.EXT, marked as partial.
+    fs::write(dir.join("fail.csv"), "GOOD").unwrap();
+    let o = framedyn(&["run", "fail.toml", "--output", "fail.csv"], &dir);
     assert_eq!(code(&o), 4, "{}", stderr(&o));
-    assert!(stderr(&o).contains("maximum number of steps"), "{}", stderr(&o));
-    let (_, rows) = read_csv(&dir.join("partial.csv"));
+    assert!(stderr(&o).contains("maximum number of steps") && stderr(&o).contains("fail.partial.csv"), "{}", stderr(&o));
+    assert_eq!(fs::read_to_string(dir.join("fail.csv")).unwrap(), "GOOD");
+    let (_, rows) = read_csv(&dir.join("fail.partial.csv"));
     assert_eq!(rows.len(), 51, "the initial state and 50 steps are kept");
+    let last = fs::read_to_string(dir.join("fail.partial.csv")).unwrap().lines().last().unwrap().to_string();
+    assert!(last.starts_with("# partial: integration failed") && last.contains("maximum number of steps"), "{last}");
+    let o = framedyn(&["run", "fail.toml", "--output", "fail.npz"], &dir);
+    assert_eq!(code(&o), 4, "{}", stderr(&o));
+    assert!(!dir.join("fail.npz").exists());
+    assert_eq!(read_npz(&dir.join("fail.partial.npz")).1.len(), 51);
+    assert!(npz_stop(&dir.join("fail.partial.npz")).starts_with("partial: integration failed"));
     // I/O error: the output directory does not exist.
     let o = framedyn(&["run", "--output", "missing/dir/out.csv"], &dir);
     assert_eq!(code(&o), 5, "{}", stderr(&o));
@@ -233,29 +254,98 @@ fn exit_codes_and_messages() {
     let _ = fs::remove_dir_all(&dir);
 }
 
-/// Interrupting a long run with SIGINT stops it cleanly: exit 130, and the
-/// output is either absent or a complete, valid file (never a torn one).
+/// SIGINT, SIGTERM and SIGHUP stop a long run cleanly: exit 128 + signal,
+/// the complete file already at the output path is left as it was, the
+/// records computed so far are a valid partial result beside it, and no
+/// temporary file is left.
 #[test]
-fn interrupt_keeps_a_valid_file() {
-    let dir = tmpdir("sigint");
+fn signals_keep_a_valid_partial_result() {
+    let dir = tmpdir("signals");
     let text = EXAMPLES.iter().find(|(n, _)| *n == DEFAULT_SCENE).unwrap().1;
     fs::write(dir.join("long.toml"), text.replace("t_end = 4.0", "t_end = 400000.0").replace("every = 4", "every = 100")).unwrap();
-    for fmt in ["csv", "npz"] {
+    for (sig, exit, fmt) in [("INT", 130, "csv"), ("TERM", 143, "npz"), ("HUP", 129, "csv"), ("TERM", 143, "csv")] {
         let out = format!("long.{fmt}");
+        fs::write(dir.join(&out), "COMPLETE").unwrap();
+        let _ = fs::remove_file(dir.join(format!("long.partial.{fmt}")));
         let child = Command::new(BIN).args(["run", "long.toml", "--output", &out]).current_dir(&dir).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
         std::thread::sleep(Duration::from_millis(1500));
-        let st = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+        let st = Command::new("kill").args([format!("-{sig}"), child.id().to_string()]).status().unwrap();
         assert!(st.success());
         let o = child.wait_with_output().unwrap();
-        assert_eq!(code(&o), 130, "{}", stderr(&o));
-        assert!(stderr(&o).contains("interrupted"), "{}", stderr(&o));
-        let path = dir.join(&out);
+        assert_eq!(code(&o), exit, "SIG{sig}: {}", stderr(&o));
+        assert!(stderr(&o).contains(&format!("interrupted by SIG{sig}")), "{}", stderr(&o));
+        assert_eq!(fs::read_to_string(dir.join(&out)).unwrap(), "COMPLETE", "SIG{sig} replaced the complete output");
+        let path = dir.join(format!("long.partial.{fmt}"));
         let rows = if fmt == "csv" { read_csv(&path).1 } else { read_npz(&path).1 };
         assert!(!rows.is_empty());
         let t: Vec<f64> = rows.iter().map(|r| r[0]).collect();
         assert!(t.windows(2).all(|w| w[1] > w[0]));
         assert!(*t.last().unwrap() < 400000.0);
+        if fmt == "npz" {
+            assert!(npz_stop(&path).starts_with(&format!("partial: interrupted by SIG{sig}")), "{}", npz_stop(&path));
+        }
     }
+    let leftovers: Vec<_> = fs::read_dir(&dir).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().starts_with('.')).collect();
+    assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// The output policy: symbolic links written through, special and
+/// read-only files refused with exit 5 and left as they were, long names,
+/// stale temporaries of dead processes removed, and an events file that
+/// cannot be written leaves no trajectory either (exit 5: nothing written).
+#[test]
+fn output_policy() {
+    use std::os::unix::fs::{symlink, PermissionsExt};
+    let dir = tmpdir("policy");
+    // Symlink: the file it points to is updated, the link stays a link.
+    fs::create_dir_all(dir.join("data")).unwrap();
+    fs::write(dir.join("data/real.csv"), "OLD").unwrap();
+    symlink("data/real.csv", dir.join("link.csv")).unwrap();
+    let o = framedyn(&["run", "-q", "--output", "link.csv"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(fs::symlink_metadata(dir.join("link.csv")).unwrap().file_type().is_symlink());
+    assert!(read_csv(&dir.join("data/real.csv")).1.len() > 1);
+    assert!(fs::read_dir(dir.join("data")).unwrap().count() == 1, "a temporary file was left beside the real file");
+    // Read-only file: refused, untouched (also when run as root).
+    fs::write(dir.join("ro.csv"), "KEEP").unwrap();
+    fs::set_permissions(dir.join("ro.csv"), fs::Permissions::from_mode(0o444)).unwrap();
+    let o = framedyn(&["run", "-q", "--output", "ro.csv"], &dir);
+    assert_eq!(code(&o), 5, "{}", stderr(&o));
+    assert!(stderr(&o).contains("ro.csv") && stderr(&o).contains("read-only"), "{}", stderr(&o));
+    assert_eq!(fs::read_to_string(dir.join("ro.csv")).unwrap(), "KEEP");
+    // Special files: refused, never replaced by a regular file.
+    let o = framedyn(&["run", "-q", "--output", "/dev/null"], &dir);
+    assert_eq!(code(&o), 5, "{}", stderr(&o));
+    assert!(stderr(&o).contains("character device"), "{}", stderr(&o));
+    assert!(!fs::metadata("/dev/null").unwrap().is_file());
+    let fifo = dir.join("pipe.csv");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let o = framedyn(&["run", "-q", "--output", "pipe.csv"], &dir);
+    assert_eq!(code(&o), 5, "{}", stderr(&o));
+    assert!(stderr(&o).contains("FIFO"), "{}", stderr(&o));
+    // A 250-byte file name: its temporary name is shortened to fit.
+    let long = format!("{}.csv", "x".repeat(246));
+    let o = framedyn(&["run", "-q", "--output", &long], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(read_csv(&dir.join(&long)).1.len() > 1);
+    // Stale temporaries of the same target (PID 4000000 exceeds Linux's
+    // pid_max, so that process cannot be running) are removed.
+    fs::write(dir.join(".stale.csv.tmp-4000000"), "junk").unwrap();
+    fs::write(dir.join(".stale.csv.raw-4000000"), "junk").unwrap();
+    let o = framedyn(&["run", "-q", "--output", "stale.csv"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(!dir.join(".stale.csv.tmp-4000000").exists() && !dir.join(".stale.csv.raw-4000000").exists());
+    // The events file cannot be written (a directory is in its place):
+    // exit 5 and no trajectory either.
+    let scene = example("s2-gyroscope-splitting").unwrap();
+    assert!(!scene.events.is_empty(), "the scene has events");
+    fs::write(dir.join("k.json"), scene.to_json_string()).unwrap();
+    fs::create_dir_all(dir.join("k.events.csv")).unwrap();
+    let o = framedyn(&["run", "-q", "k.json", "--output", "k.csv"], &dir);
+    assert_eq!(code(&o), 5, "{}", stderr(&o));
+    assert!(stderr(&o).contains("no output written"), "{}", stderr(&o));
+    assert!(!dir.join("k.csv").exists());
     let leftovers: Vec<_> = fs::read_dir(&dir).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().starts_with('.')).collect();
     assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
     let _ = fs::remove_dir_all(&dir);
