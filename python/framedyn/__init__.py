@@ -150,6 +150,10 @@ def _events(events: Optional[Sequence[Union[Event, EventFunction]]]) -> Optional
         return None
     if isinstance(events, (Event,)) or callable(events):
         events = [events]  # type: ignore[list-item]
+    if isinstance(events, (str, bytes)) or not isinstance(events, Iterable):
+        raise InvalidInputError(
+            f"invalid `events`: a {type(events).__name__}; allowed: a framedyn.Event, a callable f(t, state) -> float, or a list of them"
+        )
     out = []
     for i, e in enumerate(events):  # type: ignore[union-attr]
         if not isinstance(e, Event):

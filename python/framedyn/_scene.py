@@ -19,7 +19,7 @@ from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 import numpy as np
 
 from . import _framedyn
-from ._errors import InvalidInputError
+from ._errors import InvalidInputError, OutputError
 
 __all__ = ["Scene", "INITIAL_FIELDS"]
 
@@ -231,9 +231,19 @@ class Scene:
     @classmethod
     def load(cls, path: PathLike) -> "Scene":
         """Reads a scene file: JSON if it ends in ``.json``, else TOML."""
-        p = os.fspath(path)
-        with open(p, encoding="utf-8") as f:
-            text = f.read()
+        try:
+            p = os.fspath(path)
+        except TypeError:
+            raise InvalidInputError(f"Scene.load: invalid `path` = {path!r}: a {type(path).__name__}; allowed: a str or os.PathLike") from None
+        try:
+            with open(p, "rb") as f:
+                data = f.read()
+        except OSError as e:
+            raise OutputError(e.errno, f"Scene.load: cannot read the scene file `path` = {p!r}: {e.strerror or e}", p) from e
+        try:
+            text = data.decode("utf-8")
+        except UnicodeDecodeError as e:
+            raise InvalidInputError(f"Scene.load: the scene file {p!r} is not UTF-8 text (invalid byte at offset {e.start})") from None
         return cls.from_json(text) if p.lower().endswith(".json") else cls.from_toml(text)
 
     @classmethod
@@ -320,6 +330,8 @@ def as_scenes(scenes: Union[Scene, Iterable[Scene]], params: Optional[Sequence[M
         return [scenes.with_params(p) for p in params]
     if params is not None:
         raise InvalidInputError("params: give a single base scene together with params, not a list of scenes")
+    if isinstance(scenes, (str, bytes, Mapping)) or not isinstance(scenes, Iterable):
+        raise InvalidInputError(f"invalid `{what}`: a {type(scenes).__name__}; allowed: a framedyn.Scene or a list of them")
     out = list(scenes)
     for i, s in enumerate(out):
         if not isinstance(s, Scene):

@@ -1,6 +1,9 @@
 """Error mapping: Rust errors arrive as ValueError / RuntimeError / OSError
 subclasses with the Rust message; a Rust panic never crosses the boundary."""
 
+import errno
+import os
+
 import pytest
 
 import framedyn as fd
@@ -38,3 +41,42 @@ def test_unknown_kind_is_invalid_input():
 def test_integration_error_has_partial_default():
     e = fd.IntegrationError("x")
     assert e.partial is None
+
+
+def test_scene_load_names_the_file_and_the_problem(tmp_path):
+    with pytest.raises(fd.OutputError, match="Scene.load.*missing.toml") as e:
+        fd.Scene.load(tmp_path / "missing.toml")
+    assert isinstance(e.value, OSError) and e.value.errno == errno.ENOENT
+    with pytest.raises(fd.OutputError, match="Scene.load") as e:
+        fd.Scene.load(tmp_path)
+    assert e.value.errno == errno.EISDIR
+    (tmp_path / "bin.toml").write_bytes(b"name = \"x\"\n\xd0\x00")
+    with pytest.raises(fd.InvalidInputError, match="not UTF-8 text.*offset 11"):
+        fd.Scene.load(tmp_path / "bin.toml")
+    with pytest.raises(fd.InvalidInputError, match="`path`"):
+        fd.Scene.load(3)  # type: ignore[arg-type]
+
+
+def test_bad_events_and_batches_name_the_argument():
+    scene = fd.Scene.example("s2-gyroscope-pole")
+    with pytest.raises(fd.InvalidInputError, match="`events`.*int"):
+        fd.solve(scene, events=1)  # type: ignore[arg-type]
+    with pytest.raises(fd.InvalidInputError, match="`scenes`.*NoneType"):
+        fd.solve_batch(None)  # type: ignore[arg-type]
+    with pytest.raises(fd.InvalidInputError, match="`threads`"):
+        fd.solve_batch(scene, {"initial.r": [0.5]}, threads=2**64)
+
+
+def test_save_follows_the_output_policy(tmp_path):
+    sol = fd.solve(fd.Scene.example("s2-gyroscope-pole"))
+    (tmp_path / "real.csv").write_text("OLD")
+    os.symlink("real.csv", tmp_path / "link.csv")
+    sol.save(tmp_path / "link.csv")
+    assert os.path.islink(tmp_path / "link.csv")
+    assert (tmp_path / "real.csv").read_text().startswith("t,")
+    ro = tmp_path / "ro.csv"
+    ro.write_text("KEEP")
+    ro.chmod(0o444)
+    with pytest.raises(OSError, match="read-only"):
+        sol.save(ro)
+    assert ro.read_text() == "KEEP"

@@ -1,6 +1,10 @@
 """framedyn.Stepper: the stepping API agrees with a run, resets, errors."""
 
 import math
+import os
+import signal
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -80,3 +84,27 @@ def test_stepper_user_potential_error_propagates():
     with pytest.raises(ZeroDivisionError, match="in V"):
         st = fd.Stepper(gyro_s2(potential={"kind": "none"}), user_potential=V)
         st.step(0.01)
+
+
+@pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals go to the main thread")
+def test_ctrl_c_stops_advance_and_keeps_the_steps_done():
+    st = fd.Stepper(gyro_s2(h=1e-3, t_end=1e5))
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    # A background process inherits SIGINT ignored (see test_solve.py).
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    t0 = time.monotonic()
+    timer.start()
+    try:
+        st.advance(1e-5, 10**9)  # 1e9 steps: about an hour
+    except KeyboardInterrupt:
+        pass
+    else:
+        pytest.fail("no KeyboardInterrupt")
+    finally:
+        timer.cancel()
+        signal.signal(signal.SIGINT, previous)
+    assert time.monotonic() - t0 < 1.3, "KeyboardInterrupt later than 1 s after the signal"
+    # The steps done before the interrupt stay done, on the step grid.
+    k = round(st.t / 1e-5)
+    assert k > 0 and abs(st.t - k * 1e-5) < 1e-9
+    assert math.isfinite(st.energy)
