@@ -29,12 +29,13 @@ the built-in potentials of the scene files.
 
 from __future__ import annotations
 
+import warnings
 from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from . import _framedyn
-from ._errors import FramedynError, IntegrationError, InternalError, InvalidInputError, OutputError
+from ._errors import FramedynError, IntegrationError, InternalError, InvalidInputError, OutputError, QualityWarning
 from ._scene import INITIAL_FIELDS, Scene, as_scenes
 from ._ensemble import EnsembleSolution, table_columns
 from ._solution import BatchSolution, EventRecords, Solution
@@ -56,6 +57,7 @@ __all__ = [
     "IntegrationError",
     "OutputError",
     "InternalError",
+    "QualityWarning",
     "INITIAL_FIELDS",
     "methods",
     "manifolds",
@@ -164,6 +166,12 @@ def _events(events: Optional[Sequence[Union[Event, EventFunction]]]) -> Optional
     return out
 
 
+def _warn_quality(found: Optional[Sequence[str]], where: str) -> None:
+    """Raises a :class:`QualityWarning` for a run's quality findings."""
+    if found:
+        warnings.warn(QualityWarning(f"{where}: " + "; ".join(found)), stacklevel=3)
+
+
 def solve(
     scene: Union[Scene, Mapping[str, Any]],
     *,
@@ -195,7 +203,11 @@ def solve(
     Raises :class:`InvalidInputError` for an invalid scene and
     :class:`IntegrationError` (with ``.partial``, the records up to the last
     good state) when the integration fails; an exception raised by
-    ``user_potential`` is re-raised as it is (also with ``.partial``).
+    ``user_potential`` is re-raised as it is (also with ``.partial``). A
+    run that finishes but fails the quality check (energy drift or defect
+    over the scene's ``[quality]`` limits, or a non-finite energy) returns
+    its records and warns with :class:`QualityWarning`
+    (``solution.stats["warnings"]``).
     """
     s = _check_scene(scene)
     if not isinstance(save, bool):
@@ -206,6 +218,7 @@ def solve(
     except BaseException as e:
         raise _with_partial(e)
     sol = Solution._from_raw(raw)
+    _warn_quality(sol.stats.get("warnings"), "solve")
     if save:
         out = s.to_dict().get("output", {})
         fmt = out.get("format")

@@ -69,8 +69,11 @@ class EnsembleSolution:
     Per member: ``status`` (``'finished'``, ``'event'``, ``'cancelled'``,
     ``'failed'``, ``'invalid'``), ``ok`` (finished or stopped by an event),
     ``errors`` (message or None), ``exceptions`` (the exception a member's
-    user potential raised, or None), ``stats`` (a dict of ``(N,)`` arrays:
-    steps, energy_drift, max_defect, t_reached, …). Events: ``events`` (all
+    user potential raised, or None), ``warnings`` (the quality check's
+    findings, a list of str, empty when the run is sound: energy drift or
+    defect over the scene's ``[quality]`` limits, non-finite energy),
+    ``stats`` (a dict of ``(N,)`` arrays: steps, energy_drift, max_defect,
+    t_reached, …). Events: ``events`` (all
     members' located events, flat) with ``event_member`` (the member of each).
     """
 
@@ -85,6 +88,7 @@ class EnsembleSolution:
         "status_names": "The statuses the core reports, in the order of their codes.",
         "errors": "Per member: the error message, or None.",
         "exceptions": "Per member: the exception its user potential raised, or None.",
+        "warnings": "Per member: the quality check's findings (list of str, empty when the run is sound).",
         "stats": "Per-member run statistics, a dict of ``(N,)`` arrays.",
         "method": "The method's name.",
         "events": "The located events of all members (:class:`EventRecords`).",
@@ -103,6 +107,7 @@ class EnsembleSolution:
         self.status: np.ndarray = np.array(self.status_names)[np.asarray(raw["status"], dtype=np.intp)]
         self.errors: List[Optional[str]] = list(raw["errors"])
         self.exceptions: List[Optional[BaseException]] = list(raw["exceptions"])
+        self.warnings: List[List[str]] = [list(w) for w in raw["warnings"]]
         self.stats: Dict[str, np.ndarray] = dict(raw["summary"])
         self.method: Optional[str] = raw["method"]
         ev = raw["events"]

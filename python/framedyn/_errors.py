@@ -45,5 +45,14 @@ class OutputError(FramedynError, OSError):
     """Reading a scene file or writing an output file failed."""
 
 
+class QualityWarning(UserWarning):
+    """A run finished, but its summary failed the quality check: the energy
+    drift or constraint defect exceeds the scene's ``[quality]`` limits
+    (default 1e-3 relative, 1e-9), or the energy or defect is not finite.
+    The records are complete; ``solution.stats["warnings"]`` lists the
+    findings. Turn it into an error with
+    ``warnings.simplefilter("error", framedyn.QualityWarning)``."""
+
+
 class InternalError(FramedynError, RuntimeError):
     """A bug in framedyn (a Rust panic caught at the boundary): please report it."""

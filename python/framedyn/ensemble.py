@@ -132,6 +132,7 @@ def _table_chunk(base: Any, names: List[str], cols: List[Any], keep: str, sample
         "status": out.status, "status_names": out.status_names, "errors": out.errors, "stats": out.stats, "columns": out.columns, "units": out.units,
         "groups": out.groups, "frame_shape": out.frame_shape, "method": out.method,
         "exceptions": [None if e is None else repr(e) for e in out.exceptions],
+        "warnings": out.warnings,
     }
     if store is None:
         part.update(flat=out.flat, offsets=out.offsets, events=out.events, event_member=out.event_member)
@@ -245,6 +246,7 @@ def solve_table(
     parts = client.gather(futures)
     status = np.concatenate([p["status"] for p in parts])
     errors = [e for p in parts for e in p["errors"]]
+    quality = [w for p in parts for w in p["warnings"]]
     stats = {k: np.concatenate([p["stats"][k] for p in parts]) for k in parts[0]["stats"]}
     columns: List[str] = next((p["columns"] for p in parts if p["columns"]), [])
     names_of_status: List[str] = parts[0]["status_names"]
@@ -271,7 +273,7 @@ def solve_table(
         "frame_shape": next((p["frame_shape"] for p in parts if p["columns"]), (0, 0)),
         "status_names": names_of_status,
         "status": np.array([codes[str(s)] for s in status], dtype=np.uint8),
-        "errors": errors, "exceptions": [None] * n, "summary": stats, "method": parts[0]["method"] if parts else None,
+        "errors": errors, "exceptions": [None] * n, "warnings": quality, "summary": stats, "method": parts[0]["method"] if parts else None,
         "events": {
             "member": np.concatenate([p["event_member"] + k for p, k in zip(parts, shift)]) if parts else np.empty(0, np.int64),
             "index": np.concatenate([e.index for e in ev_rows]) if parts else np.empty(0, np.int64),

@@ -10,6 +10,8 @@ import shutil
 import subprocess
 import sys
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -39,7 +41,11 @@ def test_every_registry_method_runs_from_python(method):
     entry = {m["name"]: m for m in fd.methods()}[method]
     ref = fd.solve(away_from_pole("butcher6", 1e-3)).position[-1]
     h = 0.01
-    sol = fd.solve(away_from_pole(method, h))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", fd.QualityWarning)
+        sol = fd.solve(away_from_pole(method, h))
+    # A warning exactly when the relative energy drift exceeds the default limit.
+    assert bool(caught) == (sol.stats["relative_energy_drift"] > 1e-3), (method, sol.stats["relative_energy_drift"])
     assert sol.stats["method"] == entry["display"]
     assert sol.stats["stop"] == "finished"
     err = np.linalg.norm(sol.position[-1] - ref)

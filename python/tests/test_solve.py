@@ -6,6 +6,7 @@ import os
 import signal
 import threading
 import time
+import warnings
 
 import numpy as np
 import pytest
@@ -216,7 +217,9 @@ def test_supplied_frame_gradient_matches_the_differenced_one():
     exact = fd.solve(scene, user_potential=V, user_gradient=G)
     np.testing.assert_allclose(exact.frame, fdiff.frame, rtol=0, atol=1e-9)
     assert exact.drift("energy").max() < 1e-8
-    wrong = fd.solve(scene, user_potential=V, user_gradient=G_wrong)
+    # A wrong gradient breaks energy conservation, and the quality check says so.
+    with pytest.warns(fd.QualityWarning, match="energy drift"):
+        wrong = fd.solve(scene, user_potential=V, user_gradient=G_wrong)
     assert wrong.drift("energy").max() > 1e-4
 
 
@@ -334,3 +337,18 @@ def test_ctrl_c_stops_a_long_run():
         timer.cancel()
         signal.signal(signal.SIGINT, previous)
     assert time.monotonic() - t0 < 10.0
+
+
+def test_quality_warning_on_a_crude_run():
+    d = fd.Scene.example("s2-gyroscope-pole").to_dict()
+    d["method"] = {"name": "lie_euler", "h": 0.05}
+    with pytest.warns(fd.QualityWarning, match="energy drift .* exceeds quality.energy_drift"):
+        sol = fd.solve(d)
+    assert len(sol) == 21 and sol.stats["warnings"] and "energy drift" in sol.stats["warnings"][0]
+    out = fd.solve_batch(fd.Scene.from_dict(d), {"initial.r": np.array([0.6, 0.61])}, keep="final")
+    assert all(w and "energy drift" in w[0] for w in out.warnings)
+    d["quality"] = {"energy_drift": 1.0}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", fd.QualityWarning)
+        assert fd.solve(d).stats["warnings"] == []
+    assert fd.solve(fd.Scene.example("s2-gyroscope-pole")).stats["warnings"] == []

@@ -41,8 +41,11 @@
 //! Exit codes: 0 success; 2 bad command line; 3 invalid scene or table;
 //! 4 integration failure (the partial result holds the records up to the
 //! last good state); 5 I/O error or refused output path (nothing is
-//! written); 129, 130, 143 stopped by SIGHUP, SIGINT, SIGTERM (the partial
-//! result holds the part computed so far).
+//! written); 6 finished, output complete, but the quality check of the
+//! summary failed (energy drift or constraint defect over the scene's
+//! `[quality]` limits, or a non-finite energy or defect); 129, 130, 143
+//! stopped by SIGHUP, SIGINT, SIGTERM (the partial result holds the part
+//! computed so far).
 #![deny(missing_docs)]
 
 pub mod output;
@@ -64,6 +67,9 @@ const EXIT_INVALID: u8 = 3;
 const EXIT_INTEGRATION: u8 = 4;
 /// Exit code: I/O error.
 const EXIT_IO: u8 = 5;
+/// Exit code: the run finished and its output is complete, but the quality
+/// check of its summary failed (energy drift, defect, non-finite values).
+const EXIT_QUALITY: u8 = 6;
 
 #[derive(Parser, Debug)]
 #[command(name = "framedyn", version, about = "Structured particles on curved manifolds: scenes in, trajectories out")]
@@ -297,6 +303,8 @@ fn run_sweep(scene: Scene, origin: &str, table: &std::path::Path, output: &std::
     if !quiet {
         println!("scene:           {origin}");
         println!("members:         {} ({})", out.len(), sweep::status_counts(&out));
+        let flagged = out.members.iter().filter(|m| m.summary.as_ref().is_some_and(|s| !s.warnings.is_empty())).count();
+        println!("quality:         {}", if flagged == 0 { "ok".to_string() } else { format!("{flagged} members with warnings (`warnings` in the output)") });
         if let Some((i, m)) = out.members.iter().enumerate().find(|(_, m)| m.error.is_some()) {
             println!("first failure:   member {i}: {}", m.error.as_deref().unwrap_or(""));
         }
@@ -419,6 +427,14 @@ fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option
         }
     }
     match failure {
+        None if !summary.warnings.is_empty() => Err((
+            EXIT_QUALITY,
+            format!(
+                "quality check failed ({}); {} holds the complete run, to be used with care",
+                summary.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>().join("; "),
+                written.display()
+            ),
+        )),
         None => Ok(()),
         Some((code, reason)) => Err((
             code,

@@ -158,10 +158,13 @@ fn npy_i64(values: &[i64]) -> Vec<u8> {
 /// as an `.npz` with: `data` (all records, `(total, columns)`), `offsets`
 /// (`(N + 1,)`, member `i` is `data[offsets[i]:offsets[i+1]]`), `columns`,
 /// `units`, `status` and `error` (per member, strings; `error` empty when
-/// none), the per-member summaries `steps`, `rejected`, `rhs_evals`,
-/// `energy_initial`, `energy_drift`, `momentum_map_drift`, `max_defect`,
-/// `t_reached` (NaN for invalid members), and the table itself as
-/// `table.<field>`.
+/// none), the per-member summaries by the names of
+/// [`RunSummary::NUMBER_NAMES`](framedyn::scenes::RunSummary::NUMBER_NAMES)
+/// (`steps`, `rejected`, `rhs_evals`, `records`, `events`, `wall_time`,
+/// `energy_initial`, `energy_drift`, `relative_energy_drift`,
+/// `momentum_map_drift`, `max_defect`, `t_reached`; NaN for invalid
+/// members), `warnings` (the quality warnings of each member joined by
+/// `; `, empty when none), and the table itself as `table.<field>`.
 ///
 /// `target` is checked against the output policy ([`crate::target`]); with
 /// `partial` (an interrupted sweep) the file goes to `STEM.partial.npz`
@@ -195,18 +198,12 @@ pub fn write_ensemble(target: &Path, table: &Table, out: &Ensemble, partial: boo
         let errors: Vec<&str> = out.members.iter().map(|m| m.error.as_deref().unwrap_or("")).collect();
         put("error", &npy_strings(&errors))?;
         let n = out.members.len();
-        let field = |f: &dyn Fn(&framedyn::scenes::RunSummary) -> f64| -> Vec<u8> {
-            let v: Vec<f64> = out.members.iter().map(|m| m.summary.as_ref().map(f).unwrap_or(f64::NAN)).collect();
-            npy_f64(&v, &format!("({n},)"))
-        };
-        put("steps", &field(&|s| s.steps as f64))?;
-        put("rejected", &field(&|s| s.rejected as f64))?;
-        put("rhs_evals", &field(&|s| s.rhs_evals as f64))?;
-        put("energy_initial", &field(&|s| s.energy_initial))?;
-        put("energy_drift", &field(&|s| s.energy_drift))?;
-        put("momentum_map_drift", &field(&|s| s.momentum_map_drift))?;
-        put("max_defect", &field(&|s| s.max_defect))?;
-        put("t_reached", &field(&|s| s.t_reached))?;
+        for (k, name) in framedyn::scenes::RunSummary::NUMBER_NAMES.into_iter().enumerate() {
+            let v: Vec<f64> = out.members.iter().map(|m| m.summary.as_ref().map_or(f64::NAN, |s| s.numbers()[k])).collect();
+            put(name, &npy_f64(&v, &format!("({n},)")))?;
+        }
+        let warnings: Vec<String> = out.members.iter().map(|m| m.summary.as_ref().map_or_else(String::new, |s| s.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>().join("; "))).collect();
+        put("warnings", &npy_strings(&warnings.iter().map(String::as_str).collect::<Vec<_>>()))?;
         for name in table.names() {
             let v = table.column(name).unwrap_or(&[]);
             put(&format!("table.{name}"), &npy_f64(v, &format!("({},)", v.len())))?;

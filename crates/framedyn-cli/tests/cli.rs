@@ -484,6 +484,37 @@ fn methods_and_events_files() {
     let _ = fs::remove_dir_all(&dir);
 }
 
+/// The quality check: a finished run whose energy drift exceeds the limit
+/// exits 6 with its complete output in place and the warning in the
+/// summary; `[quality]` sets the limits (inf switches the check off) and a
+/// bad limit is an invalid scene naming the field.
+#[test]
+fn quality_check() {
+    let dir = tmpdir("quality");
+    let text = EXAMPLES.iter().find(|(n, _)| *n == DEFAULT_SCENE).unwrap().1;
+    let crude = text.replace("name = \"rk4\"\nh = 0.005", "name = \"lie_euler\"\nh = 0.05");
+    assert_ne!(crude, text);
+    fs::write(dir.join("crude.toml"), &crude).unwrap();
+    let o = framedyn(&["run", "crude.toml", "--output", "crude.csv"], &dir);
+    assert_eq!(code(&o), 6, "{}", stderr(&o));
+    assert!(stderr(&o).contains("quality check failed") && stderr(&o).contains("quality.energy_drift"), "{}", stderr(&o));
+    assert!(stdout(&o).contains("quality:         WARNING: the energy drift"), "{}", stdout(&o));
+    let (_, rows) = read_csv(&dir.join("crude.csv"));
+    assert_eq!(rows.len(), 21, "the complete run is written to the output");
+    fs::write(dir.join("off.toml"), format!("{crude}\n[quality]\nenergy_drift = inf\n")).unwrap();
+    let o = framedyn(&["run", "off.toml", "--output", "off.csv"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stdout(&o).contains("quality:         ok"), "{}", stdout(&o));
+    fs::write(dir.join("bad.toml"), format!("{text}\n[quality]\ndefect = -1.0\n")).unwrap();
+    let o = framedyn(&["validate", "bad.toml"], &dir);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    assert!(stderr(&o).contains("quality.defect") && stderr(&o).contains("> 0"), "{}", stderr(&o));
+    let o = framedyn(&["run", "--output", "default.csv"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stdout(&o).contains("quality:         ok"), "{}", stdout(&o));
+    let _ = fs::remove_dir_all(&dir);
+}
+
 /// `framedyn sweep`: a CSV table of members gives one npz whose members
 /// equal the library's single runs bit for bit; an invalid member is
 /// recorded, not fatal; a bad table exits 3 naming the column.

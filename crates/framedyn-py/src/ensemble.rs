@@ -98,26 +98,14 @@ fn to_py<'py>(py: Python<'py>, out: Ensemble, exceptions: Vec<Option<Py<PyAny>>>
     d.set_item("errors", out.members.iter().map(|m| m.error.clone()).collect::<Vec<_>>())?;
     d.set_item("exceptions", exceptions)?;
     let sum = PyDict::new(py);
-    let field = |f: &dyn Fn(&framedyn::scenes::RunSummary) -> f64| -> Vec<f64> {
-        out.members.iter().map(|m| m.summary.as_ref().map(f).unwrap_or(f64::NAN)).collect()
-    };
-    let columns: [(&str, &dyn Fn(&framedyn::scenes::RunSummary) -> f64); 12] = [
-        ("steps", &|s| s.steps as f64),
-        ("rejected", &|s| s.rejected as f64),
-        ("rhs_evals", &|s| s.rhs_evals as f64),
-        ("records", &|s| s.records as f64),
-        ("events", &|s| s.events as f64),
-        ("wall_time", &|s| s.wall_time.as_secs_f64()),
-        ("energy_initial", &|s| s.energy_initial),
-        ("energy_drift", &|s| s.energy_drift),
-        ("relative_energy_drift", &|s| s.relative_energy_drift()),
-        ("momentum_map_drift", &|s| s.momentum_map_drift),
-        ("max_defect", &|s| s.max_defect),
-        ("t_reached", &|s| s.t_reached),
-    ];
-    for (name, f) in columns {
-        sum.set_item(name, PyArray1::from_vec(py, field(f)))?;
+    // The summaries' numeric fields as (N,) arrays, NaN for invalid members.
+    for (k, name) in framedyn::scenes::RunSummary::NUMBER_NAMES.into_iter().enumerate() {
+        let v: Vec<f64> = out.members.iter().map(|m| m.summary.as_ref().map_or(f64::NAN, |s| s.numbers()[k])).collect();
+        sum.set_item(name, PyArray1::from_vec(py, v))?;
     }
+    // Quality warnings per member (empty when none).
+    let warnings: Vec<Vec<String>> = out.members.iter().map(|m| m.summary.as_ref().map_or_else(Vec::new, |s| s.warnings.iter().map(|w| w.to_string()).collect())).collect();
+    d.set_item("warnings", warnings)?;
     d.set_item("method", out.members.iter().find_map(|m| m.summary.as_ref().map(|s| s.method)))?;
     d.set_item("summary", sum)?;
     let ev = PyDict::new(py);

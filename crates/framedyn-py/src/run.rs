@@ -307,6 +307,7 @@ fn to_py<'py>(py: Python<'py>, sink: FlatSink, summary: &RunSummary, frame_shape
     s.set_item("t_reached", summary.t_reached)?;
     s.set_item("stop", stop_kind(&summary.stop))?;
     s.set_item("message", summary.stop.to_string())?;
+    s.set_item("warnings", summary.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>())?;
     d.set_item("summary", s)?;
     Ok(d)
 }

@@ -65,7 +65,8 @@
 //! with the adaptive methods; `max_steps`; `newton_tol`, `newton_max_iter`
 //! with `implicit_midpoint`), `[time]` (`t0`, `t_end`), `[output]` (`every`,
 //! `times` or `samples`; `quantities`; `format` = `csv`/`npz`; `path`),
-//! `[[events]]` (see [`EventSpec`]). The embedded examples ([`EXAMPLES`])
+//! `[quality]` (`energy_drift`, `defect`: the limits the run's summary is
+//! judged against, see [`QualitySpec`]), `[[events]]` (see [`EventSpec`]). The embedded examples ([`EXAMPLES`])
 //! cover every manifold × body and every potential family.
 //!
 //! # Methods
@@ -146,7 +147,7 @@ pub use scene::Scene;
 pub use simulation::Simulation;
 pub use sink::{Column, EventHit, FlatSink, MemorySink, RecordSink};
 pub use spec::*;
-pub use summary::{Progress, RunFailure, RunSummary, SceneStop};
+pub use summary::{Progress, QualityWarning, RunFailure, RunSummary, SceneStop};
 
 /// An event on the full record of a scene (one value per column of
 /// [`Simulation::event_columns`]): the crate's one event type on records.

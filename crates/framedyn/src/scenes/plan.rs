@@ -1,4 +1,4 @@
-//! The plan of a run: the `[method]`, `[time]` and `[output]` tables
+//! The plan of a run: the `[method]`, `[time]`, `[output]` and `[quality]` tables
 //! checked and turned into the driver's [`Settings`], the method from the
 //! registry, and the selected columns.
 
@@ -26,6 +26,8 @@ pub(crate) struct Plan {
     pub settings: Settings,
     pub sel: Sel,
     pub events: Vec<Event<[f64]>>,
+    /// `(energy_drift, defect)` limits of the quality check.
+    pub quality: (f64, f64),
 }
 
 /// A time span for building a model only (probing which methods apply):
@@ -143,8 +145,15 @@ impl Scene {
                 return Err(SceneError::invalid("output.path", "\"\"", "must be a non-empty path"));
             }
         }
+        for (field, v) in [("quality.energy_drift", self.quality.energy_drift), ("quality.defect", self.quality.defect)] {
+            if let Some(v) = v {
+                if !(v > 0.0) {
+                    return Err(SceneError::invalid(field, v, "must be > 0 (inf switches the check off)"));
+                }
+            }
+        }
         let settings = Settings { step, save, dense: false, max_steps: usize::try_from(max_steps).unwrap_or(usize::MAX), event_xtol: 0.0 };
-        Ok(Plan { t0: t.t0, t_end: t.t_end, entry, method, settings, sel: Sel::new(&quantities), events: Vec::new() })
+        Ok(Plan { t0: t.t0, t_end: t.t_end, entry, method, settings, sel: Sel::new(&quantities), events: Vec::new(), quality: self.quality.limits() })
     }
 
     /// The scene's `[[events]]` as events on the full record `columns`.

@@ -44,6 +44,10 @@ pub struct Scene {
     /// `[output]`.
     #[serde(default)]
     pub output: OutputSpec,
+    /// `[quality]`: the limits the run's summary is judged against (see
+    /// [`QualitySpec`]).
+    #[serde(default, skip_serializing_if = "QualitySpec::is_default")]
+    pub quality: QualitySpec,
     /// `[[events]]`: crossings located and reported during the run (see
     /// [`EventSpec`]).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -66,6 +70,7 @@ impl Scene {
             method: MethodSpec::default(),
             time,
             output: OutputSpec::default(),
+            quality: QualitySpec::default(),
             events: Vec::new(),
             source: None,
         }

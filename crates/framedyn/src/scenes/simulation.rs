@@ -412,6 +412,7 @@ impl Simulation {
         let mut summary = ctx.summary;
         summary.t_reached = t;
         summary.wall_time = started.elapsed();
+        summary.judge(self.plan.quality);
         match result {
             Ok(()) => Ok(summary),
             Err(error) => {

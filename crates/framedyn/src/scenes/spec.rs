@@ -454,6 +454,45 @@ pub struct OutputSpec {
     pub path: Option<String>,
 }
 
+/// `[quality]`: the limits a finished run is judged against
+/// ([`RunSummary::warnings`](super::RunSummary::warnings)). A run over a
+/// limit, or with a non-finite energy or defect in any record, still
+/// writes its records, but its summary carries the warning (the command
+/// line exits with code 6, Python warns).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct QualitySpec {
+    /// Largest accepted energy drift `max |E − E₀|`, relative to `|E₀|`
+    /// (absolute when `|E₀| < 1e-12`); default [`QualitySpec::ENERGY_DRIFT`];
+    /// `inf` switches the check off (for runs whose energy is not meant to
+    /// be conserved to any accuracy).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub energy_drift: Option<f64>,
+    /// Largest accepted constraint defect of the states (distance of the
+    /// frame from its group); default [`QualitySpec::DEFECT`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub defect: Option<f64>,
+}
+
+impl QualitySpec {
+    /// Default limit of the relative energy drift: 1e-3 (every embedded
+    /// scene stays below 3e-7).
+    pub const ENERGY_DRIFT: f64 = 1e-3;
+    /// Default limit of the constraint defect: 1e-9 (every method keeps the
+    /// state on its group to round-off, ~1e-15).
+    pub const DEFECT: f64 = 1e-9;
+
+    /// Whether nothing is set (the table is then left out when saving).
+    pub fn is_default(&self) -> bool {
+        self.energy_drift.is_none() && self.defect.is_none()
+    }
+
+    /// The limits with the defaults filled in.
+    pub fn limits(&self) -> (f64, f64) {
+        (self.energy_drift.unwrap_or(Self::ENERGY_DRIFT), self.defect.unwrap_or(Self::DEFECT))
+    }
+}
+
 /// The built-in event functions `g` of `[[events]]` (a crossing is a zero of
 /// `g` along the trajectory).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

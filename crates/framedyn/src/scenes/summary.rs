@@ -81,6 +81,45 @@ pub struct RunSummary {
     pub t_reached: f64,
     /// Why the run stopped.
     pub stop: SceneStop,
+    /// What the quality check found ([`RunSummary::judge`] against the
+    /// scene's `[quality]` limits); empty when the run is sound.
+    pub warnings: Vec<QualityWarning>,
+}
+
+/// A finding of the quality check of a run's summary.
+#[derive(Debug, Clone, PartialEq)]
+pub enum QualityWarning {
+    /// A record's energy or defect was not finite (`what` names which).
+    NonFinite {
+        /// `"energy"` or `"constraint defect"`.
+        what: &'static str,
+    },
+    /// The energy drift exceeded `quality.energy_drift`.
+    EnergyDrift {
+        /// `max |E − E₀| / |E₀|` (absolute when `|E₀| < 1e-12`).
+        drift: f64,
+        /// The limit.
+        limit: f64,
+    },
+    /// The constraint defect exceeded `quality.defect`.
+    Defect {
+        /// The largest defect of the records.
+        defect: f64,
+        /// The limit.
+        limit: f64,
+    },
+}
+
+impl fmt::Display for QualityWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            QualityWarning::NonFinite { what } => write!(f, "the {what} is not finite in some record: the results are not usable"),
+            QualityWarning::EnergyDrift { drift, limit } => {
+                write!(f, "the energy drift {drift:.3e} exceeds quality.energy_drift = {limit:.3e} (reduce h or tol, or choose a more accurate method)")
+            }
+            QualityWarning::Defect { defect, limit } => write!(f, "the constraint defect {defect:.3e} exceeds quality.defect = {limit:.3e}"),
+        }
+    }
 }
 
 impl RunSummary {
@@ -99,7 +138,69 @@ impl RunSummary {
             max_defect: 0.0,
             t_reached: t0,
             stop: SceneStop::Finished,
+            warnings: Vec::new(),
         }
+    }
+
+    /// Judges the run against `(energy_drift, defect)` limits (see
+    /// [`QualitySpec`](super::QualitySpec)) and sets [`Self::warnings`]. A run
+    /// without records is not judged.
+    pub fn judge(&mut self, (energy_limit, defect_limit): (f64, f64)) {
+        self.warnings.clear();
+        if self.records == 0 {
+            return;
+        }
+        let energy_ok = self.energy_initial.is_finite() && self.energy_drift.is_finite();
+        if !energy_ok {
+            self.warnings.push(QualityWarning::NonFinite { what: "energy" });
+        }
+        if !self.max_defect.is_finite() {
+            self.warnings.push(QualityWarning::NonFinite { what: "constraint defect" });
+        }
+        let scale = if self.energy_initial.abs() < 1e-12 { 1.0 } else { self.energy_initial.abs() };
+        let drift = self.energy_drift / scale;
+        if energy_ok && drift > energy_limit {
+            self.warnings.push(QualityWarning::EnergyDrift { drift, limit: energy_limit });
+        }
+        if self.max_defect.is_finite() && self.max_defect > defect_limit {
+            self.warnings.push(QualityWarning::Defect { defect: self.max_defect, limit: defect_limit });
+        }
+    }
+
+    /// The names of [`Self::numbers`], in its order.
+    pub const NUMBER_NAMES: [&'static str; 12] = [
+        "steps",
+        "rejected",
+        "rhs_evals",
+        "records",
+        "events",
+        "wall_time",
+        "energy_initial",
+        "energy_drift",
+        "relative_energy_drift",
+        "momentum_map_drift",
+        "max_defect",
+        "t_reached",
+    ];
+
+    /// The numeric fields (counts as floats) in the order of
+    /// [`Self::NUMBER_NAMES`]: what the Python module's ensemble statistics
+    /// and the sweep's `.npz` hold.
+    pub fn numbers(&self) -> [f64; 12] {
+        [
+            self.steps as f64,
+            self.rejected as f64,
+            self.rhs_evals as f64,
+            self.records as f64,
+            self.events as f64,
+            self.wall_time.as_secs_f64(),
+            self.energy_initial,
+            self.energy_drift,
+            self.relative_energy_drift(),
+            self.momentum_map_drift,
+            self.max_defect,
+            self.t_reached,
+        ]
     }
 
     /// `energy_drift / max(|E₀|, 1e-300)`.
@@ -119,7 +220,15 @@ impl fmt::Display for RunSummary {
         writeln!(f, "wall time:       {:.3} s", self.wall_time.as_secs_f64())?;
         writeln!(f, "energy:          E0 = {:.12e}, max |E - E0| = {:.3e} (relative {:.3e})", self.energy_initial, self.energy_drift, self.relative_energy_drift())?;
         writeln!(f, "momentum maps:   max |J - J0| = {:.3e}", self.momentum_map_drift)?;
-        write!(f, "constraint defect: max {:.3e}", self.max_defect)
+        write!(f, "constraint defect: max {:.3e}", self.max_defect)?;
+        if self.warnings.is_empty() {
+            write!(f, "\nquality:         ok")
+        } else {
+            for w in &self.warnings {
+                write!(f, "\nquality:         WARNING: {w}")?;
+            }
+            Ok(())
+        }
     }
 }
 
@@ -141,3 +250,51 @@ impl fmt::Display for RunFailure {
 
 impl std::error::Error for RunFailure {}
 
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn summary(e0: f64, drift: f64, defect: f64) -> RunSummary {
+        let mut s = RunSummary::new("test", 0.0);
+        s.records = 3;
+        s.energy_initial = e0;
+        s.energy_drift = drift;
+        s.max_defect = defect;
+        s
+    }
+
+    #[test]
+    fn judge_flags_drift_defect_and_non_finite_values() {
+        let limits = (1e-3, 1e-9);
+        let mut s = summary(2.0, 1.9e-3, 1e-15);
+        s.judge(limits);
+        assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+        let mut s = summary(2.0, 2.1e-3, 1e-15);
+        s.judge(limits);
+        assert!(matches!(s.warnings[..], [QualityWarning::EnergyDrift { drift, .. }] if (drift - 1.05e-3).abs() < 1e-12));
+        // |E₀| below 1e-12: the drift is judged absolutely.
+        let mut s = summary(0.0, 5e-4, 1e-15);
+        s.judge(limits);
+        assert!(s.warnings.is_empty());
+        let mut s = summary(-1e-13, 2e-3, 1e-15);
+        s.judge(limits);
+        assert_eq!(s.warnings.len(), 1);
+        let mut s = summary(1.0, 0.0, 1e-8);
+        s.judge(limits);
+        assert!(matches!(s.warnings[..], [QualityWarning::Defect { .. }]));
+        let mut s = summary(f64::INFINITY, f64::NAN, f64::NAN);
+        s.judge(limits);
+        assert_eq!(s.warnings, [QualityWarning::NonFinite { what: "energy" }, QualityWarning::NonFinite { what: "constraint defect" }]);
+        assert!(s.to_string().contains("WARNING: the energy is not finite"));
+        // An infinite limit switches the check off; no records, no verdict.
+        let mut s = summary(1.0, 10.0, 0.0);
+        s.judge((f64::INFINITY, 1e-9));
+        assert!(s.warnings.is_empty());
+        let mut s = summary(f64::NAN, f64::NAN, f64::NAN);
+        s.records = 0;
+        s.judge(limits);
+        assert!(s.warnings.is_empty());
+        assert_eq!(RunSummary::NUMBER_NAMES.len(), s.numbers().len());
+    }
+}
