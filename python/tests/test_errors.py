@@ -80,3 +80,14 @@ def test_save_follows_the_output_policy(tmp_path):
     with pytest.raises(OSError, match="read-only"):
         sol.save(ro)
     assert ro.read_text() == "KEEP"
+
+
+def test_records_that_cannot_fit_in_memory_are_refused_before_the_run():
+    # 1e9 fixed steps, every one recorded: ~200 GB of records.
+    d = fd.Scene.example("s2-gyroscope-pole").to_dict()
+    d["method"] = {"name": "rk4", "h": 4e-9}
+    d["output"] = {"every": 1}
+    with pytest.raises(fd.InvalidInputError, match=r"output\.every.*GB in memory.*available"):
+        fd.solve(d)
+    d["output"] = {"every": 10**8}  # 12 records: fine, and not run here
+    assert fd.Scene.from_dict(d).to_dict()["output"]["every"] == 10**8

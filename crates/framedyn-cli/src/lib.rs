@@ -67,6 +67,8 @@ const EXIT_INVALID: u8 = 3;
 const EXIT_INTEGRATION: u8 = 4;
 /// Exit code: I/O error.
 const EXIT_IO: u8 = 5;
+/// Estimated output size above which `run` says so before starting.
+const LARGE_OUTPUT_BYTES: f64 = 10e9;
 /// Exit code: the run finished and its output is complete, but the quality
 /// check of its summary failed (energy drift, defect, non-finite values).
 const EXIT_QUALITY: u8 = 6;
@@ -338,6 +340,17 @@ fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option
     };
     let mut sink = output::FileSink::create(&path, format).map_err(|e| (EXIT_IO, format!("cannot write the output: {e}")))?;
 
+    // A word before a run whose output could fill a disk.
+    let records = sim.record_bound();
+    let bytes = records as f64 * sim.columns().len() as f64 * if format == Format::Npz { 16.0 } else { 20.0 };
+    if bytes > LARGE_OUTPUT_BYTES {
+        eprintln!(
+            "framedyn: note: this run can write up to {records} records × {} columns, about {:.0} GB as {} (with the raw temporary file for npz); record fewer with output.every, output.samples or output.quantities",
+            sim.columns().len(),
+            bytes / 1e9,
+            if format == Format::Npz { "npz" } else { "csv" }
+        );
+    }
     let cancel = signals::arm();
     let show_bar = !quiet && std::io::stderr().is_terminal();
     let started = Instant::now();

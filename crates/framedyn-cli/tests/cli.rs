@@ -290,6 +290,23 @@ fn signals_keep_a_valid_partial_result() {
     let _ = fs::remove_dir_all(&dir);
 }
 
+/// A run whose output could reach hundreds of GB is announced before it
+/// starts (estimate from the step count, the sampling and the columns).
+#[test]
+fn huge_outputs_are_announced() {
+    let dir = tmpdir("huge");
+    let text = EXAMPLES.iter().find(|(n, _)| *n == DEFAULT_SCENE).unwrap().1;
+    fs::write(dir.join("huge.toml"), text.replace("h = 0.005", "h = 4e-9").replace("every = 4", "every = 1")).unwrap();
+    let child = Command::new(BIN).args(["run", "-q", "huge.toml", "--output", "huge.csv"]).current_dir(&dir).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    std::thread::sleep(Duration::from_millis(500));
+    assert!(Command::new("kill").args(["-TERM", &child.id().to_string()]).status().unwrap().success());
+    let o = child.wait_with_output().unwrap();
+    let e = stderr(&o);
+    assert!(e.contains("note: this run can write up to 1000000002 records") && e.contains("GB as csv") && e.contains("output.every"), "{e}");
+    assert_eq!(code(&o), 143, "{e}");
+    let _ = fs::remove_dir_all(&dir);
+}
+
 /// The output policy: symbolic links written through, special and
 /// read-only files refused with exit 5 and left as they were, long names,
 /// stale temporaries of dead processes removed, and an events file that

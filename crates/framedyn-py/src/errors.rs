@@ -68,6 +68,7 @@ pub fn solve_err(py: Python<'_>, e: &SolveError) -> PyErr {
 pub fn run_err(py: Python<'_>, e: &RunError) -> PyErr {
     match e {
         RunError::Integration(s) => solve_err(py, s),
+        RunError::Io(io) if io.kind() == std::io::ErrorKind::OutOfMemory => pyo3::exceptions::PyMemoryError::new_err(io.to_string()),
         RunError::Io(io) => err(py, Kind::Io, format!("output error: {io}")),
         RunError::Scene(s) => scene_err(py, s),
     }
@@ -113,4 +114,21 @@ pub fn raise_for_test(py: Python<'_>, kind: &str, message: &str) -> PyResult<()>
         other => return Err(err(py, Kind::Invalid, format!("kind: unknown value {other:?}; allowed: invalid, integration, io, internal, panic"))),
     };
     Err(err(py, k, message))
+}
+
+/// Memory this process may still use, in bytes: the smaller of the
+/// system's `MemAvailable` and the cgroup's remaining limit, when known.
+pub fn available_memory() -> Option<u64> {
+    let meminfo = std::fs::read_to_string("/proc/meminfo").ok().and_then(|t| {
+        t.lines().find_map(|l| l.strip_prefix("MemAvailable:").and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok()).map(|kb| kb * 1024))
+    });
+    let cgroup = (|| {
+        let max: u64 = std::fs::read_to_string("/sys/fs/cgroup/memory.max").ok()?.trim().parse().ok()?;
+        let cur: u64 = std::fs::read_to_string("/sys/fs/cgroup/memory.current").ok()?.trim().parse().ok()?;
+        Some(max.saturating_sub(cur))
+    })();
+    match (meminfo, cgroup) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
 }

@@ -254,6 +254,9 @@ fn run_scene(
             sim.add_event(e);
         }
     }
+    if let Some(avail) = crate::errors::available_memory() {
+        sim.check_memory(avail)?;
+    }
     let mut sink = FlatSink::default();
     let frame_shape = sim.frame_shape();
     Ok(match sim.run(&mut sink, cancel, progress) {

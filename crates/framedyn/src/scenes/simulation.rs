@@ -9,7 +9,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use super::chart::ChartTwin;
-use super::error::RunError;
+use super::error::{RunError, SceneError};
 use super::observe::{Observe, Row, Sel};
 use super::plan::Plan;
 use super::sink::{Column, EventHit, RecordSink};
@@ -385,6 +385,50 @@ impl Simulation {
     /// The events of a run.
     pub fn events(&self) -> &[Event<[f64]>] {
         &self.plan.events
+    }
+
+    /// The most records a run can write: exact for fixed steps and for
+    /// `output.times`/`samples`, from `method.max_steps` for adaptive steps
+    /// recorded every k-th step.
+    pub fn record_bound(&self) -> u64 {
+        use crate::solve::fixed_step_count;
+        let s = &self.plan.settings;
+        let steps = match &s.step {
+            StepSize::Fixed(h) => fixed_step_count(self.plan.t0, self.plan.t_end, *h).map_or(s.max_steps, |n| n.min(s.max_steps)) as u64,
+            StepSize::Adaptive(_) => s.max_steps as u64,
+        };
+        match &s.save {
+            Save::Steps => steps.saturating_add(1),
+            Save::Every(k) => (steps / (*k).max(1)).saturating_add(2),
+            Save::At(ts) => ts.len() as u64,
+            Save::Ends => 2,
+        }
+    }
+
+    /// Refuses, before anything is allocated, a run whose records could
+    /// need more than `available` bytes when kept in memory (8 bytes per
+    /// value): the error names the settings that decide the record count.
+    pub fn check_memory(&self, available: u64) -> Result<(), SceneError> {
+        let records = self.record_bound();
+        let bytes = (records as f64) * (self.columns.len() as f64) * 8.0;
+        if bytes <= available as f64 {
+            return Ok(());
+        }
+        let (field, value) = match &self.plan.settings.save {
+            Save::At(ts) => ("output.samples", ts.len().to_string()),
+            Save::Every(k) => ("output.every", k.to_string()),
+            _ => ("output.every", "1".to_string()),
+        };
+        Err(SceneError::invalid(
+            field,
+            value,
+            format!(
+                "the run can keep {records} records × {} columns = {:.1} GB in memory, more than the {:.1} GB available; record fewer (output.every, output.samples, quantities) or stream the records to a file with the command line",
+                self.columns.len(),
+                bytes / 1e9,
+                available as f64 / 1e9
+            ),
+        ))
     }
 
     /// Runs the scene from its initial state over its time span (the

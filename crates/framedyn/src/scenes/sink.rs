@@ -118,6 +118,17 @@ impl RecordSink for FlatSink {
         Ok(())
     }
     fn record(&mut self, row: &[f64]) -> io::Result<()> {
+        if self.data.capacity() - self.data.len() < row.len() {
+            // Grow by doubling, and fail with an error instead of aborting
+            // the process when memory is exhausted.
+            let extra = row.len().max(self.data.len());
+            if self.data.try_reserve(extra).is_err() && self.data.try_reserve_exact(row.len()).is_err() {
+                return Err(io::Error::new(
+                    io::ErrorKind::OutOfMemory,
+                    format!("out of memory keeping record {} ({} values kept): record fewer (output.every, output.samples)", self.rows + 1, self.data.len()),
+                ));
+            }
+        }
         self.data.extend_from_slice(row);
         self.rows += 1;
         Ok(())
