@@ -341,7 +341,7 @@ fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option
     let mut sink = output::FileSink::create(&path, format).map_err(|e| (EXIT_IO, format!("cannot write the output: {e}")))?;
 
     // A word before a run whose output could fill a disk.
-    let records = sim.record_bound();
+    let records = sim.record_bound().unwrap_or(0);
     let bytes = records as f64 * sim.columns().len() as f64 * if format == Format::Npz { 16.0 } else { 20.0 };
     if bytes > LARGE_OUTPUT_BYTES {
         eprintln!(

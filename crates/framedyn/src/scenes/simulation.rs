@@ -387,29 +387,35 @@ impl Simulation {
         &self.plan.events
     }
 
-    /// The most records a run can write: exact for fixed steps and for
-    /// `output.times`/`samples`, from `method.max_steps` for adaptive steps
-    /// recorded every k-th step.
-    pub fn record_bound(&self) -> u64 {
+    /// The most records a run can write, if known before it: for fixed
+    /// steps and for `output.times`/`samples` (with adaptive steps recorded
+    /// every k-th step the count depends on the steps taken: `None`).
+    pub fn record_bound(&self) -> Option<u64> {
         use crate::solve::fixed_step_count;
         let s = &self.plan.settings;
         let steps = match &s.step {
             StepSize::Fixed(h) => fixed_step_count(self.plan.t0, self.plan.t_end, *h).map_or(s.max_steps, |n| n.min(s.max_steps)) as u64,
-            StepSize::Adaptive(_) => s.max_steps as u64,
+            StepSize::Adaptive(_) => match &s.save {
+                Save::At(ts) => return Some(ts.len() as u64),
+                Save::Ends => return Some(2),
+                _ => return None,
+            },
         };
-        match &s.save {
+        Some(match &s.save {
             Save::Steps => steps.saturating_add(1),
             Save::Every(k) => (steps / (*k).max(1)).saturating_add(2),
             Save::At(ts) => ts.len() as u64,
             Save::Ends => 2,
-        }
+        })
     }
 
     /// Refuses, before anything is allocated, a run whose records could
     /// need more than `available` bytes when kept in memory (8 bytes per
     /// value): the error names the settings that decide the record count.
+    /// Runs whose record count is not known in advance ([`Self::record_bound`])
+    /// pass; their growth fails with an out-of-memory error instead.
     pub fn check_memory(&self, available: u64) -> Result<(), SceneError> {
-        let records = self.record_bound();
+        let Some(records) = self.record_bound() else { return Ok(()) };
         let bytes = (records as f64) * (self.columns.len() as f64) * 8.0;
         if bytes <= available as f64 {
             return Ok(());
