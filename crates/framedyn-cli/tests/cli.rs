@@ -501,6 +501,36 @@ fn methods_and_events_files() {
     let _ = fs::remove_dir_all(&dir);
 }
 
+/// An invalid potential parameter is reported at that parameter, also when
+/// the constructor takes several (`mu` of a neo-Hookean body, not
+/// `lambda`; `beta_hat` of the cosine family, not `alpha_hat`).
+#[test]
+fn errors_name_the_parameter_at_fault() {
+    let dir = tmpdir("blame");
+    let cases = [
+        ("s3-affine-neo-hookean", "mu = ", "mu = -1.0", "potential.mu"),
+        ("s3-affine-neo-hookean", "lambda = ", "lambda = -1.0", "potential.lambda"),
+        ("s3-incompressible-svk", "mu = ", "mu = -1.0", "potential.mu"),
+        (DEFAULT_SCENE, "beta_hat = ", "beta_hat = nan", "potential.beta_hat"),
+        (DEFAULT_SCENE, "alpha_hat = ", "alpha_hat = inf", "potential.alpha_hat"),
+    ];
+    for (scene, key, line, field) in cases {
+        let text = EXAMPLES.iter().find(|(n, _)| *n == scene).unwrap().1;
+        let mut found = false;
+        let changed: String = text
+            .lines()
+            .map(|l| if l.starts_with(key) && !found { found = true; line.to_string() } else { l.to_string() })
+            .collect::<Vec<_>>()
+            .join("\n");
+        assert!(found, "{scene} has no `{key}`");
+        fs::write(dir.join("s.toml"), changed).unwrap();
+        let o = framedyn(&["validate", "s.toml"], &dir);
+        assert_eq!(code(&o), 3, "{scene}: {}", stderr(&o));
+        assert!(stderr(&o).contains(&format!("`{field}`")), "{scene} with {line}: {}", stderr(&o));
+    }
+    let _ = fs::remove_dir_all(&dir);
+}
+
 /// The quality check: a finished run whose energy drift exceeds the limit
 /// exits 6 with its complete output in place and the warning in the
 /// summary; `[quality]` sets the limits (inf switches the check off) and a

@@ -357,6 +357,22 @@ fn series(v: &Option<Series>, path: &str, field: &str) -> Result<Series, SceneEr
     Ok(s)
 }
 
+/// The parameters of a `[potential]` table (other than `kind` and `scale`).
+const POTENTIAL_FIELDS: [&str; 12] = ["kappa", "alpha", "alpha_hat", "beta_hat", "lambda", "mu", "centre", "v", "v_r", "v_rho", "v_eps", "terms"];
+
+/// A core error raised while building the potential at `path`, placed at
+/// the parameter it names (`mu`, `beta_hat`, …) when that is one of the
+/// table's, else at `fallback`: a constructor taking several parameters
+/// knows which one is wrong.
+fn core_error(path: &str, fallback: &str, e: crate::Error) -> SceneError {
+    let named = match &e {
+        crate::Error::InvalidParameter { field, .. } | crate::Error::NotFinite { field } => Some(*field),
+        _ => None,
+    };
+    let field = named.filter(|f| POTENTIAL_FIELDS.contains(f) && fallback != "centre").unwrap_or(fallback);
+    SceneError::from_core(&format!("{path}.{field}"), e)
+}
+
 /// Rejects parameters that the potential's kind does not use.
 fn check_fields(p: &PotentialSpec, path: &str) -> Result<(), SceneError> {
     let used: &[&str] = match p.kind {
@@ -449,7 +465,7 @@ fn surface_kinds(s: &SurfacePotentials<'_>) -> &'static str {
 /// The scene potential `p` (at `path`) on a surface.
 pub(crate) fn build_potential2(p: &PotentialSpec, path: &str, s: &SurfacePotentials<'_>) -> Result<Potential2, SceneError> {
     check_fields(p, path)?;
-    let core = |field: &str, e| SceneError::from_core(&format!("{path}.{field}"), e);
+    let core = |field: &str, e| core_error(path, field, e);
     let unavailable = || {
         SceneError::invalid(format!("{path}.kind"), format!("\"{}\"", kind_name(p.kind)), format!("not available on {}; allowed there: {}", s.name, surface_kinds(s)))
     };
@@ -542,7 +558,7 @@ pub(crate) struct SpacePotentials<'a> {
 /// The scene potential `p` (at `path`) on a three-dimensional manifold.
 pub(crate) fn build_potential3(p: &PotentialSpec, path: &str, s: &SpacePotentials<'_>) -> Result<Potential3, SceneError> {
     check_fields(p, path)?;
-    let core = |field: &str, e| SceneError::from_core(&format!("{path}.{field}"), e);
+    let core = |field: &str, e| core_error(path, field, e);
     let centre = || -> Result<Centre<4>, SceneError> {
         let make = s.centre.ok_or_else(|| SceneError::invalid(format!("{path}.kind"), format!("\"{}\"", kind_name(p.kind)), format!("central potentials are not available on {}", s.name)))?;
         match &p.centre {
