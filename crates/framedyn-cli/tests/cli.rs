@@ -501,9 +501,11 @@ fn methods_and_events_files() {
     let _ = fs::remove_dir_all(&dir);
 }
 
-/// An invalid potential parameter is reported at that parameter, also when
-/// the constructor takes several (`mu` of a neo-Hookean body, not
-/// `lambda`; `beta_hat` of the cosine family, not `alpha_hat`).
+/// An invalid parameter is reported at that parameter: also when a
+/// constructor takes several (`mu` of a neo-Hookean body, not `lambda`;
+/// `beta_hat` of the cosine family, not `alpha_hat`), when a value is
+/// derived from it (J from `inertia`, the embedding from `r`), when the TOML
+/// parser rejects it before any field is read, and when two fields conflict.
 #[test]
 fn errors_name_the_parameter_at_fault() {
     let dir = tmpdir("blame");
@@ -513,6 +515,14 @@ fn errors_name_the_parameter_at_fault() {
         ("s3-incompressible-svk", "mu = ", "mu = -1.0", "potential.mu"),
         (DEFAULT_SCENE, "beta_hat = ", "beta_hat = nan", "potential.beta_hat"),
         (DEFAULT_SCENE, "alpha_hat = ", "alpha_hat = inf", "potential.alpha_hat"),
+        // J built from an inertia too small for double precision.
+        ("s2-affine-elastic", "inertia = ", "inertia = 1e-300", "body.inertia"),
+        // Both inertia and J: one would be ignored.
+        (DEFAULT_SCENE, "inertia = ", "inertia = -5.0\nJ = [[0.1, 0.0], [0.0, 0.1]]", "body.inertia"),
+        // An integer beyond 64 bits, rejected by the TOML parser itself.
+        (DEFAULT_SCENE, "every = ", "every = 99999999999999999999", "output.every"),
+        // A point of H² whose embedding overflows: the coordinate is at fault.
+        ("h2-gyroscope", "r = ", "r = 800.0", "initial.r"),
     ];
     for (scene, key, line, field) in cases {
         let text = EXAMPLES.iter().find(|(n, _)| *n == scene).unwrap().1;

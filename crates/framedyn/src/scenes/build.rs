@@ -57,6 +57,7 @@ impl Scene {
             }
             BodyKind::Gyroscope => {
                 self.no_internal(&["orientation", "rho", "rho_dot"])?;
+                self.one_inertia()?;
                 let mut body = match &b.j {
                     Some(j) => Gyroscope::<2>::new(b.mass, mat::<2>(j, "body.J")?),
                     None => Gyroscope::<2>::isotropic(b.mass, b.inertia.unwrap_or(1.0)),
@@ -123,6 +124,7 @@ impl Scene {
             }
             BodyKind::Gyroscope => {
                 self.no_internal(&["alpha", "rho", "rho_dot"])?;
+                self.one_inertia()?;
                 if b.signature == Some(SignatureSpec::Lorentz) {
                     return Err(SceneError::invalid("body.signature", "\"lorentz\"", "the Lorentz-type gyroscope (a138) is defined on H2 and S2 surfaces; on S3 use riemannian"));
                 }
@@ -185,6 +187,7 @@ impl Scene {
         AffineBodyModel<B, <Self as PotFor<N, E>>::Pot, PureDilatation<N>, N, E>: Observe + System<State = BodyState<B, PureDilatation<N>, N, E>>,
     {
         self.no_internal(&["alpha", "orientation", "spin", "omega", "frame"])?;
+        self.one_inertia()?;
         let b = &self.body;
         if b.signature.is_some() {
             return Err(SceneError::invalid("body.signature", "(given)", "signature is for gyroscopes only"));
@@ -209,8 +212,14 @@ impl Scene {
             None => SMatrix::zeros(),
         };
         let run = |e: SolveError| SceneError::invalid("initial", "(state)", e.to_string());
-        let body_err = |e| SceneError::from_core("body", e);
-        let model_err = |e| SceneError::from_core("body", e);
+        // J built from `inertia`: an error in J is one in inertia.
+        let body_err = |e: crate::Error| match (&e, b.j.is_none()) {
+            (crate::Error::Constraint { field: "J", .. } | crate::Error::InvalidParameter { field: "J", .. }, true) => {
+                SceneError::invalid("body.inertia", format!("{:?}", b.inertia.unwrap_or(1.0)), format!("gives J = inertia·1 that the body refuses: {e}"))
+            }
+            _ => SceneError::from_core("body", e),
+        };
+        let model_err = body_err;
         macro_rules! go {
             ($body:ty, $c:ty) => {{
                 let body = <$body>::new(b.mass, j).map_err(body_err)?;
@@ -256,6 +265,15 @@ impl Scene {
                     format!("not used by a {} on {}", kind_body(self.body.kind), self.manifold.kind.name()),
                 ));
             }
+        }
+        Ok(())
+    }
+
+    /// A body's inertia is `inertia` (isotropic) or the matrix `J`, never
+    /// both (one would be silently ignored).
+    fn one_inertia(&self) -> Result<(), SceneError> {
+        if let (Some(i), Some(_)) = (self.body.inertia, &self.body.j) {
+            return Err(SceneError::invalid("body.inertia", format!("{i:?}"), "is given together with body.J; give one of them (inertia: isotropic, J: the full matrix)"));
         }
         Ok(())
     }

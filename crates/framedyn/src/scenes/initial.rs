@@ -83,6 +83,24 @@ impl<B: FrameBundle<N, E>, const N: usize, const E: usize> Init<B, N, E> {
             let g = b.from_chart(&x, &SMatrix::identity()).map_err(|e| SceneError::from_core(&format!("initial.{}", names[0]), e))?;
             let p = b.embed(&x);
             let v = b.embed_tangent(&x, &xd);
+            // Far out on H² the embedding overflows (cosh(r/R) beyond
+            // r/R ≈ 710): the coordinates given are at fault, not the
+            // velocity computed from them.
+            if !(p.iter().all(|c| c.is_finite()) && g_is_finite::<B, N, E>(b, &g)) {
+                return Err(SceneError::invalid(
+                    format!("initial.{}", names[0]),
+                    x[0],
+                    "gives a point whose embedding coordinates overflow double precision (on H², r/R must stay below about 710)",
+                ));
+            }
+            if !v.iter().all(|c| c.is_finite()) {
+                let rates: Vec<String> = names.iter().map(|n| format!("initial.{n}_dot")).collect();
+                return Err(SceneError::invalid(
+                    format!("initial.{}", names[0]),
+                    x[0],
+                    format!("with the rates {} gives a velocity whose embedding components overflow double precision", rates.join(", ")),
+                ));
+            }
             let u = tangent_components(b, &g, &v, "v").map_err(init_error)?;
             Ok(Init { p, v, g, u })
         } else {
@@ -99,4 +117,9 @@ impl<B: FrameBundle<N, E>, const N: usize, const E: usize> Init<B, N, E> {
             Ok(Init { p, v, g, u })
         }
     }
+}
+
+/// Whether the bundle element's position and frame are finite.
+fn g_is_finite<B: FrameBundle<N, E>, const N: usize, const E: usize>(b: &B, g: &B::Group) -> bool {
+    b.position(g).iter().all(|c| c.is_finite()) && b.frame_vectors(g).iter().all(|c| c.is_finite())
 }

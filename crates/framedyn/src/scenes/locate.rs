@@ -12,6 +12,36 @@ pub(crate) fn offset_to_location(text: &str, offset: usize) -> Location {
     Location { line, column }
 }
 
+/// The dotted key of the TOML line that holds byte `offset`
+/// (`output.every`, `events[1].value`), from the nearest table header above
+/// it and the key before `=` on that line: for errors the TOML parser
+/// raises before any field is deserialised (an integer beyond 64 bits).
+pub(crate) fn toml_key_at(text: &str, offset: usize) -> Option<String> {
+    let offset = floor_char_boundary(text, offset.min(text.len()));
+    let line_start = text[..offset].rfind('\n').map_or(0, |i| i + 1);
+    let line = text[line_start..].lines().next().unwrap_or("");
+    let key = line.split_once('=')?.0.trim().trim_matches('"').trim_matches('\'');
+    if key.is_empty() || key.starts_with('[') || key.starts_with('#') {
+        return None;
+    }
+    let mut table: Option<String> = None;
+    let mut counts: std::collections::HashMap<String, usize> = std::collections::HashMap::new();
+    for l in text[..line_start].lines() {
+        let l = l.trim();
+        if let Some(name) = l.strip_prefix("[[").and_then(|r| r.split_once("]]")).map(|(n, _)| n.trim().to_string()) {
+            let k = counts.entry(name.clone()).or_insert(0);
+            table = Some(format!("{name}[{k}]"));
+            *k += 1;
+        } else if let Some(name) = l.strip_prefix('[').and_then(|r| r.split_once(']')).map(|(n, _)| n.trim().to_string()) {
+            table = Some(name);
+        }
+    }
+    Some(match table {
+        Some(t) => format!("{t}.{key}"),
+        None => key.to_string(),
+    })
+}
+
 fn floor_char_boundary(s: &str, mut i: usize) -> usize {
     while i > 0 && !s.is_char_boundary(i) {
         i -= 1;
@@ -131,4 +161,20 @@ pub(crate) fn json_path(text: &str, path: &str) -> Option<Location> {
         }
     }
     found.map(|o| offset_to_location(text, o))
+}
+
+#[cfg(test)]
+mod key_tests {
+    use super::toml_key_at;
+
+    #[test]
+    fn keys_of_toml_lines() {
+        let text = "name = \"x\"\n[output]\nevery = 99999999999999999999\n[[events]]\nkind = \"plane\"\n[[events]]\nvalue = 1e999\n";
+        let at = |needle: &str| toml_key_at(text, text.find(needle).unwrap());
+        assert_eq!(at("9999").as_deref(), Some("output.every"));
+        assert_eq!(at("\"plane").as_deref(), Some("events[0].kind"));
+        assert_eq!(at("1e999").as_deref(), Some("events[1].value"));
+        assert_eq!(at("\"x").as_deref(), Some("name"));
+        assert_eq!(at("[output]"), None);
+    }
 }

@@ -85,9 +85,12 @@ impl Scene {
             let path = e.path().to_string();
             let inner = e.into_inner();
             let location = inner.span().map(|s| locate::offset_to_location(text, s.start));
+            // Errors of the TOML syntax itself come before any field is
+            // deserialised: the key is read from the line.
+            let path = if path == "." { inner.span().and_then(|s| locate::toml_key_at(text, s.start)).unwrap_or_default() } else { path };
             SceneError::Parse {
                 format: "TOML",
-                path: if path == "." { String::new() } else { path },
+                path,
                 message: inner.message().trim().to_string(),
                 location,
             }
