@@ -415,8 +415,9 @@ pub fn run_batch<'py>(
     let threads = if user.is_some() { Some(1) } else { threads };
     let pool = match threads {
         Some(n) => Some(
+            // Never more workers than members (nor than the ensembles' limit).
             rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
+                .num_threads(n.min(scenes.len().max(1)).min(framedyn::scenes::EnsembleOptions::MAX_THREADS))
                 .build()
                 .map_err(|e| err(py, Kind::Internal, format!("cannot start {n} threads: {e}")))?,
         ),

@@ -41,10 +41,10 @@ impl Scene {
         AffineBodyModel<B, Potential2, Conformal, 2, 3>: Observe + System<State = BodyState<B, Conformal, 2, 3>>,
         AffineBodyModel<B, Potential2, PureDilatation<2>, 2, 3>: Observe + System<State = BodyState<B, PureDilatation<2>, 2, 3>>,
     {
-        let init = Init::<B, 2, 3>::new(&m, &self.initial)?;
+        let init = Init::<B, 2, 3>::new(&m, &self.initial).map_err(|e| e.with_note(&self.manifold_note()))?;
         let b = &self.body;
         let run = |e: SolveError| SceneError::invalid("initial", "(state)", e.to_string());
-        let core_init = |e: crate::Error| init_error(e);
+        let core_init = |e: crate::Error| init_error(e).with_note(&self.body_note());
         match b.kind {
             BodyKind::Point => {
                 self.no_internal(&["alpha", "orientation", "spin", "omega", "frame", "rho", "rho_dot"])?;
@@ -62,12 +62,12 @@ impl Scene {
                     Some(j) => Gyroscope::<2>::new(b.mass, mat::<2>(j, "body.J")?),
                     None => Gyroscope::<2>::isotropic(b.mass, b.inertia.unwrap_or(1.0)),
                 }
-                .map_err(|e| SceneError::from_core("body", e))?;
+                .map_err(|e| self.body_error(e))?;
                 if b.signature == Some(SignatureSpec::Lorentz) {
                     body = body.with_signature(Signature::Lorentz);
                 }
                 let twin = chart.map(|c| twin::<_, _, 3, 2, 3>(FrameLagrangian::<C, PlaneRotation, Potential2, 2, 3, 1, 3>::gyroscope(c, PlaneRotation, &body, pot.clone())));
-                let model = Gyroscope2Model::new(m.clone(), body, pot).map_err(|e| SceneError::from_core("body", e))?;
+                let model = Gyroscope2Model::new(m.clone(), body, pot).map_err(|e| self.body_error(e))?;
                 let i = &self.initial;
                 let spin = match (&i.spin, &i.omega) {
                     (Some(_), Some(_)) => return Err(SceneError::invalid("initial.omega", "(given with spin)", "give spin or omega, not both")),
@@ -83,6 +83,9 @@ impl Scene {
                     model.state(&init.p, &init.v, &e, spin).map_err(core_init)?
                 } else {
                     let alpha = i.alpha.unwrap_or(0.0);
+                    if !alpha.is_finite() {
+                        return Err(SceneError::invalid("initial.alpha", alpha, "must be finite"));
+                    }
                     model.state_from_parts(&init.g, &So2::exp(&nalgebra::Vector1::new(alpha)), &init.u, spin).map_err(core_init)?
                 };
                 boxed(model, y, span, twin).map_err(run)
@@ -109,7 +112,7 @@ impl Scene {
         AffineBodyModel<B, Potential3, Conformal, 3, 4>: Observe + System<State = BodyState<B, Conformal, 3, 4>>,
         AffineBodyModel<B, Potential3, PureDilatation<3>, 3, 4>: Observe + System<State = BodyState<B, PureDilatation<3>, 3, 4>>,
     {
-        let init = Init::<B, 3, 4>::new(&m, &self.initial)?;
+        let init = Init::<B, 3, 4>::new(&m, &self.initial).map_err(|e| e.with_note(&self.manifold_note()))?;
         let b = &self.body;
         let run = |e: SolveError| SceneError::invalid("initial", "(state)", e.to_string());
         match b.kind {
@@ -119,7 +122,7 @@ impl Scene {
                 let body = Point::new(b.mass).map_err(|e| SceneError::from_core("body.mass", e))?;
                 let twin = chart.map(|c| twin::<_, _, 3, 3, 4>(PointLagrangian::new(c, &body, pot.clone())));
                 let model = PointModel::new(m, body, pot).map_err(|e| SceneError::from_core("potential", e))?;
-                let y = model.state_from_parts(&init.g, &init.u).map_err(init_error)?;
+                let y = model.state_from_parts(&init.g, &init.u).map_err(|e| init_error(e).with_note(&self.body_note()))?;
                 boxed(model, y, span, twin).map_err(run)
             }
             BodyKind::Gyroscope => {
@@ -132,9 +135,9 @@ impl Scene {
                     Some(j) => Gyroscope::<3>::new(b.mass, mat::<3>(j, "body.J")?),
                     None => Gyroscope::<3>::isotropic(b.mass, b.inertia.unwrap_or(1.0)),
                 }
-                .map_err(|e| SceneError::from_core("body", e))?;
+                .map_err(|e| self.body_error(e))?;
                 let twin = chart.map(|c| twin::<_, _, 6, 3, 4>(FrameLagrangian::<C, RotationVector, Potential3, 3, 4, 3, 6>::gyroscope(c, RotationVector, &body, pot.clone())));
-                let model = Gyroscope3Model::new(m, body, pot).map_err(|e| SceneError::from_core("body", e))?;
+                let model = Gyroscope3Model::new(m, body, pot).map_err(|e| self.body_error(e))?;
                 let i = &self.initial;
                 let spin_e = match (&i.spin, &i.omega) {
                     (Some(_), Some(_)) => return Err(SceneError::invalid("initial.omega", "(given with spin)", "give spin or omega, not both")),
@@ -147,14 +150,14 @@ impl Scene {
                         return Err(SceneError::invalid("initial.orientation", "(given with frame)", "give frame or orientation, not both"));
                     }
                     let e = frame_matrix::<3, 4>(fr)?;
-                    model.state(&init.p, &init.v, &e, &spin_e).map_err(init_error)?
+                    model.state(&init.p, &init.v, &e, &spin_e).map_err(|e| init_error(e).with_note(&self.body_note()))?
                 } else {
                     let rv = match &i.orientation {
                         Some(o) => vec3(o, "initial.orientation")?,
                         None => nalgebra::Vector3::zeros(),
                     };
                     let rho = So3::exp(&rv);
-                    model.state_from_parts(&init.g, &rho, &init.u, &(rho.matrix() * spin_e)).map_err(init_error)?
+                    model.state_from_parts(&init.g, &rho, &init.u, &(rho.matrix() * spin_e)).map_err(|e| init_error(e).with_note(&self.body_note()))?
                 };
                 boxed(model, y, span, twin).map_err(run)
             }
@@ -213,18 +216,13 @@ impl Scene {
         };
         let run = |e: SolveError| SceneError::invalid("initial", "(state)", e.to_string());
         // J built from `inertia`: an error in J is one in inertia.
-        let body_err = |e: crate::Error| match (&e, b.j.is_none()) {
-            (crate::Error::Constraint { field: "J", .. } | crate::Error::InvalidParameter { field: "J", .. }, true) => {
-                SceneError::invalid("body.inertia", format!("{:?}", b.inertia.unwrap_or(1.0)), format!("gives J = inertia·1 that the body refuses: {e}"))
-            }
-            _ => SceneError::from_core("body", e),
-        };
+        let body_err = |e: crate::Error| self.body_error(e);
         let model_err = body_err;
         macro_rules! go {
             ($body:ty, $c:ty) => {{
                 let body = <$body>::new(b.mass, j).map_err(body_err)?;
                 let model = AffineBodyModel::<B, _, $c, N, E>::new(m, body, pot).map_err(model_err)?;
-                let y = model.state(&init.g, &rho, &init.u, &rho_dot).map_err(init_error)?;
+                let y = model.state(&init.g, &rho, &init.u, &rho_dot).map_err(|e| init_error(e).with_note(&self.body_note()))?;
                 boxed(model, y, span, None).map_err(run)
             }};
         }
@@ -236,7 +234,7 @@ impl Scene {
                     None => None,
                 };
                 let model = AffineBodyModel::<B, _, Unconstrained, N, E>::new(m, body, pot).map_err(model_err)?;
-                let y = model.state(&init.g, &rho, &init.u, &rho_dot).map_err(init_error)?;
+                let y = model.state(&init.g, &rho, &init.u, &rho_dot).map_err(|e| init_error(e).with_note(&self.body_note()))?;
                 boxed(model, y, span, twin).map_err(run)
             }
             BodyKind::Incompressible => go!(Incompressible<N>, Isochoric),
@@ -267,6 +265,40 @@ impl Scene {
             }
         }
         Ok(())
+    }
+
+    /// The manifold's parameters as `manifold.radius = 1.0` (for notes on
+    /// errors that involve them).
+    fn manifold_note(&self) -> String {
+        let m = &self.manifold;
+        let fields = [("radius", m.radius), ("L", m.major), ("R", m.minor), ("equatorial_radius", m.equatorial_radius), ("polar_radius", m.polar_radius)];
+        let given: Vec<String> = fields.iter().filter_map(|(n, v)| v.map(|v| format!("manifold.{n} = {v:?}"))).collect();
+        if given.is_empty() {
+            "manifold radius 1 (the default)".to_string()
+        } else {
+            given.join(", ")
+        }
+    }
+
+    /// The body's parameters as `body.mass = 1.0, body.inertia = 0.2` (for
+    /// notes on errors of the initial state, which they scale).
+    fn body_note(&self) -> String {
+        let b = &self.body;
+        let mut out = format!("body.mass = {:?}", b.mass);
+        if let Some(i) = b.inertia {
+            out.push_str(&format!(", body.inertia = {i:?}"));
+        }
+        out
+    }
+
+    /// An error of a body whose J may have been built from `inertia`: then
+    /// it is reported at `body.inertia`.
+    fn body_error(&self, e: crate::Error) -> SceneError {
+        let about_j = matches!(&e, crate::Error::Constraint { field: "J", .. } | crate::Error::InvalidParameter { field: "J", .. } | crate::Error::NotFinite { field: "J" });
+        match self.body.inertia {
+            Some(i) if about_j && self.body.j.is_none() => SceneError::invalid("body.inertia", format!("{i:?}"), format!("gives J = inertia·1 that the body refuses: {e}")),
+            _ => SceneError::from_core("body", e),
+        }
     }
 
     /// A body's inertia is `inertia` (isotropic) or the matrix `J`, never

@@ -97,6 +97,15 @@ impl SceneError {
     }
 
     /// A core-library error raised while building the part of the scene at `path`.
+    /// The error with `note` added to what is allowed (the other fields a
+    /// relation between fields involves, with their values).
+    pub(crate) fn with_note(self, note: &str) -> Self {
+        match self {
+            SceneError::Invalid { path, value, allowed, location } => SceneError::Invalid { path, value, allowed: format!("{allowed} ({note})"), location },
+            other => other,
+        }
+    }
+
     pub(crate) fn from_core(path: &str, err: crate::Error) -> Self {
         use crate::Error as E;
         let sub = |field: &str| {

@@ -79,7 +79,15 @@ impl<B: FrameBundle<N, E>, const N: usize, const E: usize> Init<B, N, E> {
                     return Err(SceneError::invalid(format!("initial.{n}_dot"), xd[k], "must be finite"));
                 }
             }
-            b.check_chart(&x).map_err(|e| SceneError::invalid(format!("initial.{}", names[0]), x[0], format!("{e}; at a chart pole give position/velocity instead")))?;
+            b.check_chart(&x).map_err(|e| {
+                let point = if names.len() == 1 {
+                    String::new()
+                } else {
+                    let given: Vec<String> = names.iter().zip(x.iter()).map(|(n, v)| format!("initial.{n} = {v:?}")).collect();
+                    format!(" at the point {}", given.join(", "))
+                };
+                SceneError::invalid(format!("initial.{}", names[0]), x[0], format!("{e}{point}; at a chart pole give position/velocity instead"))
+            })?;
             let g = b.from_chart(&x, &SMatrix::identity()).map_err(|e| SceneError::from_core(&format!("initial.{}", names[0]), e))?;
             let p = b.embed(&x);
             let v = b.embed_tangent(&x, &xd);
@@ -94,11 +102,13 @@ impl<B: FrameBundle<N, E>, const N: usize, const E: usize> Init<B, N, E> {
                 ));
             }
             if !v.iter().all(|c| c.is_finite()) {
-                let rates: Vec<String> = names.iter().map(|n| format!("initial.{n}_dot")).collect();
+                // The largest rate is at fault; the message gives them all.
+                let k = (0..N).max_by(|&a, &b| xd[a].abs().total_cmp(&xd[b].abs())).unwrap_or(0);
+                let rates: Vec<String> = names.iter().zip(xd.iter()).map(|(n, r)| format!("initial.{n}_dot = {r:?}")).collect();
                 return Err(SceneError::invalid(
-                    format!("initial.{}", names[0]),
-                    x[0],
-                    format!("with the rates {} gives a velocity whose embedding components overflow double precision", rates.join(", ")),
+                    format!("initial.{}_dot", names[k]),
+                    xd[k],
+                    format!("gives a velocity whose embedding components overflow double precision (rates {})", rates.join(", ")),
                 ));
             }
             let u = tangent_components(b, &g, &v, "v").map_err(init_error)?;

@@ -165,7 +165,8 @@ impl Scene {
             ManifoldKind::T2 => {
                 ms.only(ms.kind.fields())?;
                 let (l, r) = (ms.major.unwrap_or(2.0), ms.minor.unwrap_or(1.0));
-                let m = Torus2::new(l, r).map_err(|e| SceneError::from_core("manifold", e))?;
+                let note = format!("manifold.L = {l:?}, manifold.R = {r:?}");
+                let m = Torus2::new(l, r).map_err(|e| SceneError::from_core("manifold", e).with_note(&note))?;
                 let angle = TorusAngle::new(l, r).map_err(|e| SceneError::from_core("manifold", e))?;
                 let ctx = SurfacePotentials { name: "T2", centre: None, torus: Some(angle), cosine: None, length: r };
                 let pot = user2(build_potential2(&self.potential, "potential", &ctx)?, ctx.length)?;
@@ -195,7 +196,8 @@ impl Scene {
                 ms.only(ms.kind.fields())?;
                 let req = |v: Option<f64>, f: &str| v.ok_or_else(|| SceneError::invalid(format!("manifold.{f}"), "(missing)", "required for kind = \"spheroid\""));
                 let (a, c) = (req(ms.equatorial_radius, "equatorial_radius")?, req(ms.polar_radius, "polar_radius")?);
-                let m = Spheroid::new(a, c).map_err(|e| SceneError::from_core("manifold", e))?;
+                let note = format!("manifold.equatorial_radius = {a:?}, manifold.polar_radius = {c:?}");
+                let m = Spheroid::new(a, c).map_err(|e| SceneError::from_core("manifold", e).with_note(&note))?;
                 // The cosine family in the height along the axis, z/c: the
                 // axial component of the pole of the sphere of radius c.
                 let axis = Centre::sphere2(&Sphere2::new(c).map_err(|e| SceneError::from_core("manifold.polar_radius", e))?);

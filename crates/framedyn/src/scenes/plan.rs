@@ -101,7 +101,8 @@ impl Scene {
             return Err(SceneError::invalid("method.max_steps", 0, "must be ≥ 1"));
         }
         if let StepSize::Fixed(h) = &step {
-            let n = fixed_step_count(t.t0, t.t_end, *h).map_err(|e| SceneError::invalid("method.h", h, e.to_string()))?;
+            let n = fixed_step_count(t.t0, t.t_end, *h)
+                .map_err(|e| SceneError::invalid("method.h", h, e.to_string()).with_note(&format!("time.t0 = {:?}, time.t_end = {:?}", t.t0, t.t_end)))?;
             if n as u64 > max_steps {
                 return Err(SceneError::invalid(
                     "method.h",
