@@ -301,8 +301,12 @@ def test_user_potential_nan_is_an_integration_error():
 
 
 def test_user_potential_wrong_return_type():
-    with pytest.raises(TypeError):
+    with pytest.raises(TypeError, match=r"user_potential\(x, e\) returned a str; it must return a float"):
         fd.solve(gyro_s2(potential={"kind": "none"}), user_potential=lambda x, e: "zero")
+    with pytest.raises(TypeError, match="user_potential.*returned a NoneType"):
+        fd.solve(gyro_s2(potential={"kind": "none"}), user_potential=lambda x, e: None)
+    with pytest.raises(TypeError, match="event function.*returned a str"):
+        fd.solve(gyro_s2(), events=[lambda t, state: "up"])
 
 
 def test_user_potential_not_callable():

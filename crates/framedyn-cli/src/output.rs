@@ -37,11 +37,12 @@ impl FileSink {
     pub fn create(target: &Path, format: Format) -> io::Result<FileSink> {
         let target = Target::resolve(target)?;
         let tmp = target.temporary("tmp");
+        let create = |p: &Path| File::create(p).map_err(|e| io::Error::new(e.kind(), format!("cannot create {}: {e}", p.display())));
         let (raw, file) = match format {
-            Format::Csv => (None, File::create(&tmp)?),
+            Format::Csv => (None, create(&tmp)?),
             Format::Npz => {
                 let raw = target.temporary("raw");
-                let f = File::create(&raw)?;
+                let f = create(&raw)?;
                 (Some(raw), f)
             }
         };

@@ -123,7 +123,11 @@ pub(crate) fn user_functions(user: &UserCallables, slot: &ErrorSlot) -> UserFunc
         let mut v = f64::NAN;
         with_slot(&s, |py| {
             let (xa, ea) = position_and_frame(py, x, e)?;
-            v = callable.call1(py, (xa, ea))?.extract::<f64>(py)?;
+            let out = callable.call1(py, (xa, ea))?;
+            v = out.extract::<f64>(py).map_err(|_| {
+                let kind = out.bind(py).get_type().name().map_or_else(|_| "?".to_string(), |n| n.to_string());
+                pyo3::exceptions::PyTypeError::new_err(format!("user_potential(x, e) returned a {kind}; it must return a float (the potential's value)"))
+            })?;
             Ok(())
         });
         v
@@ -210,7 +214,11 @@ fn user_events(events: &[PyEvent], names: Vec<String>, slot: &ErrorSlot) -> Vec<
                         for (n, v) in names.iter().zip(row) {
                             d.set_item(n, *v)?;
                         }
-                        callable.call1(py, (t, d))?.extract::<f64>(py)
+                        let out = callable.call1(py, (t, d))?;
+                        out.extract::<f64>(py).map_err(|_| {
+                            let kind = out.bind(py).get_type().name().map_or_else(|_| "?".to_string(), |n| n.to_string());
+                            pyo3::exceptions::PyTypeError::new_err(format!("the event function f(t, state) returned a {kind}; it must return a float"))
+                        })
                     })();
                     match result {
                         Ok(v) => v,
