@@ -339,7 +339,9 @@ def _solve_table(
 class Stepper:
     """A scene advanced step by step with its method (the stepping API).
 
-    ``step(h)``, ``advance(h, n)``; ``t``, ``energy``, ``defect``; ``row()``
+    ``step(h)``, ``advance(h, n)``; ``t``, ``energy``, ``defect``;
+    ``energy_drift``, ``max_defect`` and ``warnings`` (the quality check
+    over the states between calls); ``row()``
     (the current record, the scene's output columns) and ``state()`` (the
     same as a dict); ``reset()`` goes back to the initial state. Steps run
     with the GIL released.
@@ -387,6 +389,25 @@ class Stepper:
     def defect(self) -> float:
         """Constraint defect of the current state."""
         return float(self._native.defect)
+
+    @property
+    def energy_drift(self) -> float:
+        """``max |E − E0|`` over the states at the start and end of every
+        ``step``/``advance`` call since construction or :meth:`reset` (not at
+        every step inside one ``advance``); 0 before any call."""
+        return float(self._native.energy_drift)
+
+    @property
+    def max_defect(self) -> float:
+        """The largest constraint defect over the same states."""
+        return float(self._native.max_defect)
+
+    @property
+    def warnings(self) -> List[str]:
+        """The quality check of those states against the scene's
+        ``[quality]`` limits (energy drift, defect, non-finite values):
+        empty while sound."""
+        return list(self._native.warnings)
 
     @property
     def span(self) -> Tuple[float, float]:

@@ -108,3 +108,22 @@ def test_ctrl_c_stops_advance_and_keeps_the_steps_done():
     k = round(st.t / 1e-5)
     assert k > 0 and abs(st.t - k * 1e-5) < 1e-9
     assert math.isfinite(st.energy)
+
+
+def test_stepper_keeps_a_drift_record_and_judges_it():
+    st = fd.Stepper(gyro_s2(h=1e-3, t_end=10.0))
+    assert st.energy_drift == 0.0 and st.warnings == []
+    e0 = st.energy
+    for _ in range(5):
+        st.advance(1e-3, 200)
+    assert 0.0 < st.energy_drift < 1e-9 and st.max_defect < 1e-12 and st.warnings == []
+    assert st.energy_drift >= abs(st.energy - e0)
+    # Lie-Euler with a large step gains energy: the record and the check show it.
+    d = gyro_s2(h=0.05, t_end=10.0).to_dict()
+    d["method"] = {"name": "lie_euler", "h": 0.05}
+    crude = fd.Stepper(d)
+    crude.advance(0.05, 80)
+    assert crude.energy_drift > 1e-3 * abs(crude.energy)
+    assert crude.warnings and "energy drift" in crude.warnings[0]
+    crude.reset()
+    assert crude.energy_drift == 0.0 and crude.warnings == []

@@ -552,6 +552,27 @@ impl PyStepper {
         self.with(py, |s| Ok(s.defect()))
     }
 
+    /// `max |E − E₀|` over the states at the start and end of every
+    /// `step`/`advance` call since construction or `reset()` (`E₀`: the
+    /// energy before the first call); 0 before any call.
+    #[getter]
+    fn energy_drift(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |s| Ok(s.stepping_summary().map_or(0.0, |r| r.energy_drift)))
+    }
+
+    /// The largest constraint defect over the same states.
+    #[getter]
+    fn max_defect(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |s| Ok(s.stepping_summary().map_or(0.0, |r| r.max_defect)))
+    }
+
+    /// The quality check of those against the scene's `[quality]` limits
+    /// (energy drift, defect, non-finite values): empty while sound.
+    #[getter]
+    fn warnings(&self, py: Python<'_>) -> PyResult<Vec<String>> {
+        self.with(py, |s| Ok(s.stepping_summary().map_or_else(Vec::new, |r| r.warnings.iter().map(|w| w.to_string()).collect())))
+    }
+
     /// The scene's time span `(t0, t_end)`.
     #[getter]
     fn span(&self, py: Python<'_>) -> PyResult<(f64, f64)> {

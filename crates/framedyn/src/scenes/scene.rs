@@ -242,6 +242,6 @@ impl Scene {
         let columns = engine.columns(plan.sel);
         let event_columns = engine.columns(Sel::ALL);
         plan.events = self.compile_events(&event_columns)?;
-        Ok(Simulation { engine, plan, columns, event_columns, name: self.name.clone().unwrap_or_default() })
+        Ok(Simulation { engine, plan, columns, event_columns, name: self.name.clone().unwrap_or_default(), stepping: None })
     }
 }

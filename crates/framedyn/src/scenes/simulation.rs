@@ -341,6 +341,9 @@ pub struct Simulation {
     pub(crate) columns: Vec<Column>,
     pub(crate) event_columns: Vec<Column>,
     pub(crate) name: String,
+    /// What the stepping API has seen since the last reset (see
+    /// [`Simulation::stepping_summary`]).
+    pub(crate) stepping: Option<RunSummary>,
 }
 
 impl fmt::Debug for Simulation {
@@ -448,6 +451,7 @@ impl Simulation {
     /// been written and the error comes with the summary ([`RunFailure`]).
     pub fn run(&mut self, sink: &mut dyn RecordSink, cancel: &AtomicBool, progress: &mut dyn FnMut(&Progress)) -> Result<RunSummary, RunFailure> {
         let started = Instant::now();
+        self.stepping = None;
         let mut summary = RunSummary::new(self.method_name(), self.plan.t0);
         if let Err(e) = sink.columns(&self.columns) {
             summary.stop = SceneStop::OutputError(e.to_string());
@@ -480,7 +484,10 @@ impl Simulation {
     /// method (stepping API; [`Self::run`] always starts again from the
     /// initial state).
     pub fn step(&mut self, h: f64) -> Result<(), SolveError> {
-        self.engine.step(&self.plan.method, h)
+        self.note_stepping();
+        let out = self.engine.step(&self.plan.method, h);
+        self.note_stepping();
+        out
     }
 
     /// `n` steps of size `h` (the span `n·h` split exactly by the driver);
@@ -492,7 +499,37 @@ impl Simulation {
     /// [`Self::advance`], stopping cleanly within a few hundred steps after
     /// `cancel` is raised ([`StopReason::Cancelled`], the state reached kept).
     pub fn advance_cancellable(&mut self, h: f64, n: usize, cancel: &AtomicBool) -> Result<StopReason, SolveError> {
-        self.engine.advance(&self.plan.method, h, n, cancel)
+        self.note_stepping();
+        let out = self.engine.advance(&self.plan.method, h, n, cancel);
+        self.note_stepping();
+        out
+    }
+
+    /// Notes the current state in the stepping record (the first note
+    /// starts it).
+    fn note_stepping(&mut self) {
+        let (energy, defect, t) = (self.engine.energy(), self.engine.defect(), self.engine.t());
+        let s = self.stepping.get_or_insert_with(|| {
+            let mut s = RunSummary::new(self.plan.method.display(), t);
+            s.energy_initial = energy;
+            s
+        });
+        let d = (energy - s.energy_initial).abs();
+        s.energy_drift = if d.is_nan() || s.energy_drift.is_nan() { f64::NAN } else { s.energy_drift.max(d) };
+        s.max_defect = if defect.is_nan() || s.max_defect.is_nan() { f64::NAN } else { s.max_defect.max(defect) };
+        s.records += 1;
+        s.t_reached = t;
+        s.judge(self.plan.quality);
+    }
+
+    /// What the stepping API ([`Self::step`], [`Self::advance`]) has seen
+    /// since the simulation was built or [`reset`](Self::reset): the
+    /// energy drift and largest defect over the states at the start and end
+    /// of every call (not at every step inside an `advance`), and the
+    /// quality check of those against the scene's `[quality]` limits
+    /// ([`RunSummary::warnings`]). `None` before the first call.
+    pub fn stepping_summary(&self) -> Option<&RunSummary> {
+        self.stepping.as_ref()
     }
 
     /// Current time of the stepping API.
@@ -525,7 +562,8 @@ impl Simulation {
 
     /// Back to the initial state.
     pub fn reset(&mut self) {
-        self.engine.reset()
+        self.engine.reset();
+        self.stepping = None;
     }
 
     /// The time span `(t₀, t_end)`.
