@@ -237,6 +237,7 @@ def solve_batch(
     user_gradient: Optional[UserGradient] = None,
     keep: str = "all",
     samples: Optional[int] = None,
+    oversubscribe: bool = False,
 ) -> Any:
     """Runs many scenes in parallel (Rust threads, GIL released).
 
@@ -273,18 +274,22 @@ def solve_batch(
     exception in ``.error``.
 
     ``user_potential``, ``user_gradient``: as for :func:`solve`.
-    ``threads``: worker threads (default: one per core).
+    ``threads``: worker threads (default: one per core; an int in
+    [1, 1024]); never more than the members, nor more than the machine's
+    cores unless ``oversubscribe=True`` (the work is CPU-bound).
     """
+    if not isinstance(oversubscribe, bool):
+        raise InvalidInputError(f"invalid `oversubscribe` = {oversubscribe!r}: must be a bool")
     if on_error not in ("raise", "keep"):
         raise InvalidInputError(f"invalid `on_error` = {on_error!r}: allowed: 'raise', 'keep'")
     if threads is not None and (not isinstance(threads, int) or isinstance(threads, bool) or not 1 <= threads <= 1024):
         raise InvalidInputError(f"invalid `threads` = {threads!r}: must be an int in [1, 1024] or None")
     if isinstance(scenes, Scene) and params is not None and not isinstance(params, (list, tuple)):
-        return _solve_table(scenes, params, user_potential, user_gradient, threads, on_error, keep, samples)
+        return _solve_table(scenes, params, user_potential, user_gradient, threads, on_error, keep, samples, oversubscribe)
     if keep != "all" or samples is not None:
         raise InvalidInputError("`keep` and `samples` apply to a columnar batch (one scene and a table of columns)")
     members = as_scenes(scenes, params)
-    results = _framedyn.run_batch([m._native for m in members], user_potential, threads, user_gradient)
+    results = _framedyn.run_batch([m._native for m in members], user_potential, threads, user_gradient, oversubscribe)
     out: List[Solution] = []
     for i, r in enumerate(results):
         if isinstance(r, BaseException):
@@ -313,6 +318,7 @@ def _solve_table(
     on_error: str,
     keep: str,
     samples: Optional[int],
+    oversubscribe: bool = False,
 ) -> EnsembleSolution:
     if keep not in ("all", "final"):
         raise InvalidInputError(f"invalid `keep` = {keep!r}: allowed: 'all', 'final' (or samples=k)")
@@ -325,7 +331,7 @@ def _solve_table(
         mode = "samples"
         samples = int(samples)
     names, cols = table_columns(table)
-    raw = _framedyn.run_table(scene._native, names, cols, mode, samples, threads, user_potential, user_gradient)
+    raw = _framedyn.run_table(scene._native, names, cols, mode, samples, threads, user_potential, user_gradient, oversubscribe)
     out = EnsembleSolution(raw)
     if on_error == "raise":
         bad = np.flatnonzero(out.status == "invalid")

@@ -89,6 +89,7 @@ def run_batch(
     user_potential: Optional[_UserPotential] = None,
     threads: Optional[int] = None,
     user_gradient: Optional[_UserGradient] = None,
+    oversubscribe: bool = False,
 ) -> List[Union[Dict[str, Any], BaseException]]:
     """Parallel runs: per scene the result dict or its exception."""
 
@@ -101,6 +102,7 @@ def run_table(
     threads: Optional[int] = None,
     user_potential: Optional[_UserPotential] = None,
     user_gradient: Optional[_UserGradient] = None,
+    oversubscribe: bool = False,
 ) -> Dict[str, Any]:
     """A columnar ensemble: the stacked records, offsets, statuses and summaries."""
 

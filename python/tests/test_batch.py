@@ -131,3 +131,19 @@ def test_gil_is_released_during_a_long_batch():
     assert t1 - t0 > 0.2, "the batch should take a while for this test to mean anything"
     # Counting went on during the batch (not just before and after it).
     assert len(during) >= 10 and during[-1] > during[0]
+
+
+def test_threads_are_capped_at_members_and_cores():
+    # 5000 threads for one member start one worker (was 20 s of thread start-up).
+    scene = fd.Scene.example("s2-gyroscope-pole")
+    t0 = time.monotonic()
+    out = fd.solve_batch(scene, {"initial.r": np.array([0.6])}, threads=1024, keep="final")
+    assert out.ok.all() and time.monotonic() - t0 < 5.0
+    sols = fd.solve_batch([scene, scene], threads=1024)
+    assert len(sols) == 2
+    # Oversubscribing is allowed when asked, with the same results.
+    a = fd.solve_batch(scene, {"initial.r": np.array([0.6, 0.7, 0.8])}, threads=3, oversubscribe=True, keep="final")
+    b = fd.solve_batch(scene, {"initial.r": np.array([0.6, 0.7, 0.8])}, threads=1, keep="final")
+    np.testing.assert_array_equal(a.final, b.final)
+    with pytest.raises(fd.InvalidInputError, match="oversubscribe"):
+        fd.solve_batch(scene, {"initial.r": np.array([0.6])}, oversubscribe="yes")  # type: ignore[arg-type]

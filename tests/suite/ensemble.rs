@@ -19,7 +19,7 @@ fn single(scene: &Scene) -> FlatSink {
 }
 
 fn ensemble(base: &Scene, table: &Table, keep: Keep, threads: Option<usize>) -> Ensemble {
-    run_ensemble(base, table, &EnsembleOptions { keep, threads }, None, &AtomicBool::new(false), &|_| {}).unwrap()
+    run_ensemble(base, table, &EnsembleOptions { keep, threads, oversubscribe: false }, None, &AtomicBool::new(false), &|_| {}).unwrap()
 }
 
 /// A short S² gyroscope whose members differ in initial state, body and
@@ -93,7 +93,7 @@ fn keep_final_and_samples() {
         let (sa, sf) = (all.members[i].summary.as_ref().unwrap(), fin.members[i].summary.as_ref().unwrap());
         assert_eq!((sa.steps, sa.energy_drift.to_bits(), sa.max_defect.to_bits()), (sf.steps, sf.energy_drift.to_bits(), sf.max_defect.to_bits()));
     }
-    let err = run_ensemble(&base(), &table, &EnsembleOptions { keep: Keep::Samples(1), threads: None }, None, &AtomicBool::new(false), &|_| {}).unwrap_err();
+    let err = run_ensemble(&base(), &table, &EnsembleOptions { keep: Keep::Samples(1), ..Default::default() }, None, &AtomicBool::new(false), &|_| {}).unwrap_err();
     assert!(err.to_string().contains("samples"), "{err}");
 }
 
@@ -116,7 +116,7 @@ fn bad_tables_name_the_column_and_member() {
     assert!(e.contains("0 members"), "{e}");
     let e = msg(Table::new([("body.J.0", vec![1.0])]));
     assert!(e.contains("body.J.0") && e.contains("two indices"), "{e}");
-    let opts = EnsembleOptions { keep: Keep::All, threads: Some(0) };
+    let opts = EnsembleOptions { keep: Keep::All, threads: Some(0), oversubscribe: false };
     let t = Table::new([("initial.r", vec![0.5])]).unwrap();
     let e = run_ensemble(&base(), &t, &opts, None, &AtomicBool::new(false), &|_| {}).unwrap_err().to_string();
     assert!(e.contains("threads") && e.contains("1024"), "{e}");
@@ -165,7 +165,7 @@ fn a_failing_member_keeps_its_partial_records_and_spares_the_others() {
         });
         UserFunctions { value, gradient: None }
     };
-    let out = run_ensemble(&b, &table, &EnsembleOptions { keep: Keep::All, threads: Some(2) }, Some(&user), &AtomicBool::new(false), &|_| {}).unwrap();
+    let out = run_ensemble(&b, &table, &EnsembleOptions { keep: Keep::All, threads: Some(2), oversubscribe: false }, Some(&user), &AtomicBool::new(false), &|_| {}).unwrap();
     let st: Vec<MemberStatus> = out.members.iter().map(|m| m.status).collect();
     assert_eq!(st, [MemberStatus::Finished, MemberStatus::Finished, MemberStatus::Failed, MemberStatus::Finished]);
     let e = out.members[2].error.as_deref().unwrap();
@@ -235,4 +235,19 @@ fn dotted_paths_set_their_fields() {
     s.body.j = Some(vec![vec![0.2, 0.0, 0.0], vec![0.0, 0.3, 0.0], vec![0.0, 0.0, 0.4]]);
     s.set("body.J.1.1", 0.35).unwrap();
     assert_eq!(s.body.j.as_ref().unwrap()[1][1], 0.35);
+}
+
+
+/// Worker threads: at most one per member and, unless oversubscribing, one
+/// per core.
+#[test]
+fn worker_threads_are_bounded_by_members_and_cores() {
+    use framedyn::scenes::worker_threads;
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    assert_eq!(worker_threads(5000, 1, false), 1);
+    assert_eq!(worker_threads(5000, 1, true), 1);
+    assert_eq!(worker_threads(1_000_000, 10_000, false), cores);
+    assert_eq!(worker_threads(64, 10_000, true), 64);
+    assert_eq!(worker_threads(1_000_000, 10_000, true), EnsembleOptions::MAX_THREADS);
+    assert_eq!(worker_threads(1, 0, false), 1);
 }

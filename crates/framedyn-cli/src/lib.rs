@@ -124,9 +124,12 @@ enum Command {
         /// Keep K equally spaced records per member (K ≥ 2; replaces the scene's output times).
         #[arg(long, conflicts_with = "keep")]
         samples: Option<u64>,
-        /// Worker threads (default: one per core; at most 1024).
+        /// Worker threads (default: one per core; at most 1024, and at most one per core unless --oversubscribe).
         #[arg(long)]
         threads: Option<usize>,
+        /// Allow more worker threads than cores.
+        #[arg(long)]
+        oversubscribe: bool,
         /// No progress bar and no summary.
         #[arg(short, long)]
         quiet: bool,
@@ -255,14 +258,14 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
             println!("{origin}: valid");
             Ok(())
         }
-        Command::Sweep { scene, table, output, keep, samples, threads, quiet } => {
+        Command::Sweep { scene, table, output, keep, samples, threads, oversubscribe, quiet } => {
             let (s, origin) = load(&scene)?;
             let keep = match (samples, keep) {
                 (Some(k), _) => scenes::Keep::Samples(k),
                 (None, KeepArg::Final) => scenes::Keep::Final,
                 (None, KeepArg::All) => scenes::Keep::All,
             };
-            run_sweep(s, &origin, &table, &output, keep, threads, quiet)
+            run_sweep(s, &origin, &table, &output, keep, (threads, oversubscribe), quiet)
         }
         Command::Run { scene, output, format, quiet } => {
             let name = scene.unwrap_or_else(|| scenes::DEFAULT_SCENE.to_string());
@@ -272,7 +275,15 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
     }
 }
 
-fn run_sweep(scene: Scene, origin: &str, table: &std::path::Path, output: &std::path::Path, keep: scenes::Keep, threads: Option<usize>, quiet: bool) -> Result<(), (u8, String)> {
+fn run_sweep(
+    scene: Scene,
+    origin: &str,
+    table: &std::path::Path,
+    output: &std::path::Path,
+    keep: scenes::Keep,
+    (threads, oversubscribe): (Option<usize>, bool),
+    quiet: bool,
+) -> Result<(), (u8, String)> {
     scene.validate().map_err(|e| (EXIT_INVALID, format!("{origin}: invalid scene: {e}")))?;
     let table = sweep::read_table(table).map_err(|e| match e {
         sweep::TableError::Io(m) => (EXIT_IO, m),
@@ -288,7 +299,7 @@ fn run_sweep(scene: Scene, origin: &str, table: &std::path::Path, output: &std::
         );
         b
     });
-    let opts = scenes::EnsembleOptions { keep, threads };
+    let opts = scenes::EnsembleOptions { keep, threads, oversubscribe };
     let started = Instant::now();
     let out = scenes::run_ensemble(&scene, &table, &opts, None, cancel, &|k| {
         if let Some(b) = &bar {

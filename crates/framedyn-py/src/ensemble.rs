@@ -23,7 +23,7 @@ use crate::scene::PyScene;
 /// GIL, so threads would only contend for it). Ctrl-C stops running
 /// members within a few hundred steps and raises `KeyboardInterrupt`.
 #[pyfunction]
-#[pyo3(signature = (scene, names, columns, keep = "all", samples = None, threads = None, user_potential = None, user_gradient = None))]
+#[pyo3(signature = (scene, names, columns, keep = "all", samples = None, threads = None, user_potential = None, user_gradient = None, oversubscribe = false))]
 #[allow(clippy::too_many_arguments)]
 pub fn run_table<'py>(
     py: Python<'py>,
@@ -35,6 +35,7 @@ pub fn run_table<'py>(
     threads: Option<usize>,
     user_potential: Option<Py<PyAny>>,
     user_gradient: Option<Py<PyAny>>,
+    oversubscribe: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     if names.len() != columns.len() {
         return Err(err(py, Kind::Invalid, format!("table: {} names for {} columns", names.len(), columns.len())));
@@ -59,7 +60,7 @@ pub fn run_table<'py>(
     let user = check_user(py, user_potential, user_gradient)?;
     let n = table.len();
     let slots: Vec<ErrorSlot> = (0..n).map(|_| Arc::new(Mutex::new(None))).collect();
-    let opts = EnsembleOptions { keep, threads: if user.is_some() { Some(1) } else { threads } };
+    let opts = EnsembleOptions { keep, threads: if user.is_some() { Some(1) } else { threads }, oversubscribe };
     let base = scene.inner.clone();
     let factory = user.as_ref().map(|u| {
         let slots = &slots;

@@ -406,13 +406,14 @@ pub fn run<'py>(
 /// each call of the potential holds the GIL, so threads would only contend
 /// for it.
 #[pyfunction]
-#[pyo3(signature = (scenes, user_potential = None, threads = None, user_gradient = None))]
+#[pyo3(signature = (scenes, user_potential = None, threads = None, user_gradient = None, oversubscribe = false))]
 pub fn run_batch<'py>(
     py: Python<'py>,
     scenes: Vec<PyRef<'py, PyScene>>,
     user_potential: Option<Py<PyAny>>,
     threads: Option<usize>,
     user_gradient: Option<Py<PyAny>>,
+    oversubscribe: bool,
 ) -> PyResult<Vec<Py<PyAny>>> {
     if threads == Some(0) {
         return Err(err(py, Kind::Invalid, "threads = 0: must be ≥ 1 (or None for one per core)"));
@@ -423,9 +424,9 @@ pub fn run_batch<'py>(
     let threads = if user.is_some() { Some(1) } else { threads };
     let pool = match threads {
         Some(n) => Some(
-            // Never more workers than members (nor than the ensembles' limit).
+            // Never more workers than members, nor than cores unless asked.
             rayon::ThreadPoolBuilder::new()
-                .num_threads(n.min(scenes.len().max(1)).min(framedyn::scenes::EnsembleOptions::MAX_THREADS))
+                .num_threads(framedyn::scenes::worker_threads(n, scenes.len(), oversubscribe))
                 .build()
                 .map_err(|e| err(py, Kind::Internal, format!("cannot start {n} threads: {e}")))?,
         ),

@@ -148,13 +148,31 @@ pub struct EnsembleOptions {
     /// What to keep of each member.
     pub keep: Keep,
     /// Worker threads (`None`: rayon's global pool, one per core). At most
-    /// [`EnsembleOptions::MAX_THREADS`].
+    /// [`EnsembleOptions::MAX_THREADS`]; never more than the members, nor
+    /// more than the machine's cores unless `oversubscribe`
+    /// ([`worker_threads`]).
     pub threads: Option<usize>,
+    /// Allow more threads than cores (the members are CPU-bound: more
+    /// threads than cores only add switching).
+    pub oversubscribe: bool,
 }
 
 impl EnsembleOptions {
     /// The largest thread count accepted.
     pub const MAX_THREADS: usize = 1024;
+}
+
+/// The worker threads actually started for `requested` threads and
+/// `members` members: at most one per member, and at most one per core
+/// (`std::thread::available_parallelism`) unless `oversubscribe`.
+pub fn worker_threads(requested: usize, members: usize, oversubscribe: bool) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let n = requested.min(members.max(1)).min(EnsembleOptions::MAX_THREADS);
+    if oversubscribe {
+        n.max(1)
+    } else {
+        n.min(cores).max(1)
+    }
 }
 
 /// How a member ended.
@@ -367,7 +385,7 @@ pub fn run_ensemble(
         }
         Some(n) => Some(
             rayon::ThreadPoolBuilder::new()
-                .num_threads(n.min(table.len()))
+                .num_threads(worker_threads(n, table.len(), opts.oversubscribe))
                 .build()
                 .map_err(|e| SceneError::invalid("threads", n, format!("cannot start the threads: {e}")))?,
         ),
