@@ -455,7 +455,7 @@ fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option
             EXIT_QUALITY,
             format!(
                 "quality check failed ({}); {} holds the complete run, to be used with care",
-                summary.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>().join("; "),
+                summary.warning_texts().join("; "),
                 written.display()
             ),
         )),

@@ -202,7 +202,7 @@ pub fn write_ensemble(target: &Path, table: &Table, out: &Ensemble, partial: boo
             let v: Vec<f64> = out.members.iter().map(|m| m.summary.as_ref().map_or(f64::NAN, |s| s.numbers()[k])).collect();
             put(name, &npy_f64(&v, &format!("({n},)")))?;
         }
-        let warnings: Vec<String> = out.members.iter().map(|m| m.summary.as_ref().map_or_else(String::new, |s| s.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>().join("; "))).collect();
+        let warnings: Vec<String> = out.members.iter().map(|m| m.summary.as_ref().map_or_else(String::new, |s| s.warning_texts().join("; "))).collect();
         put("warnings", &npy_strings(&warnings.iter().map(String::as_str).collect::<Vec<_>>()))?;
         for name in table.names() {
             let v = table.column(name).unwrap_or(&[]);

@@ -105,7 +105,7 @@ fn to_py<'py>(py: Python<'py>, out: Ensemble, exceptions: Vec<Option<Py<PyAny>>>
         sum.set_item(name, PyArray1::from_vec(py, v))?;
     }
     // Quality warnings per member (empty when none).
-    let warnings: Vec<Vec<String>> = out.members.iter().map(|m| m.summary.as_ref().map_or_else(Vec::new, |s| s.warnings.iter().map(|w| w.to_string()).collect())).collect();
+    let warnings: Vec<Vec<String>> = out.members.iter().map(|m| m.summary.as_ref().map_or_else(Vec::new, |s| s.warning_texts())).collect();
     d.set_item("warnings", warnings)?;
     d.set_item("method", out.members.iter().find_map(|m| m.summary.as_ref().map(|s| s.method)))?;
     d.set_item("summary", sum)?;

@@ -318,7 +318,7 @@ fn to_py<'py>(py: Python<'py>, sink: FlatSink, summary: &RunSummary, frame_shape
     s.set_item("t_reached", summary.t_reached)?;
     s.set_item("stop", stop_kind(&summary.stop))?;
     s.set_item("message", summary.stop.to_string())?;
-    s.set_item("warnings", summary.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>())?;
+    s.set_item("warnings", summary.warning_texts())?;
     d.set_item("summary", s)?;
     Ok(d)
 }
@@ -571,7 +571,7 @@ impl PyStepper {
     /// (energy drift, defect, non-finite values): empty while sound.
     #[getter]
     fn warnings(&self, py: Python<'_>) -> PyResult<Vec<String>> {
-        self.with(py, |s| Ok(s.stepping_summary().map_or_else(Vec::new, |r| r.warnings.iter().map(|w| w.to_string()).collect())))
+        self.with(py, |s| Ok(s.stepping_summary().map_or_else(Vec::new, |r| r.warning_texts())))
     }
 
     /// The scene's time span `(t0, t_end)`.

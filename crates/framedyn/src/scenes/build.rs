@@ -44,7 +44,6 @@ impl Scene {
         let init = Init::<B, 2, 3>::new(&m, &self.initial).map_err(|e| e.with_note(&self.manifold_note()))?;
         let b = &self.body;
         let run = |e: SolveError| SceneError::invalid("initial", "(state)", e.to_string());
-        let core_init = |e: crate::Error| init_error(e).with_note(&self.body_note());
         match b.kind {
             BodyKind::Point => {
                 self.no_internal(&["alpha", "orientation", "spin", "omega", "frame", "rho", "rho_dot"])?;
@@ -52,7 +51,7 @@ impl Scene {
                 self.no_inertia()?;
                 let twin = chart.map(|c| twin::<_, _, 2, 2, 3>(PointLagrangian::new(c, &body, pot.clone())));
                 let model = PointModel::new(m.clone(), body, pot).map_err(|e| SceneError::from_core("potential", e))?;
-                let y = model.state_from_parts(&init.g, &init.u).map_err(core_init)?;
+                let y = model.state_from_parts(&init.g, &init.u).map_err(|e| self.state_error(e))?;
                 boxed(model, y, span, twin).map_err(run)
             }
             BodyKind::Gyroscope => {
@@ -80,13 +79,13 @@ impl Scene {
                         return Err(SceneError::invalid("initial.alpha", i.alpha.unwrap_or(0.0), "give frame or alpha, not both"));
                     }
                     let e = frame_matrix::<2, 3>(fr)?;
-                    model.state(&init.p, &init.v, &e, spin).map_err(core_init)?
+                    model.state(&init.p, &init.v, &e, spin).map_err(|e| self.state_error(e))?
                 } else {
                     let alpha = i.alpha.unwrap_or(0.0);
                     if !alpha.is_finite() {
                         return Err(SceneError::invalid("initial.alpha", alpha, "must be finite"));
                     }
-                    model.state_from_parts(&init.g, &So2::exp(&nalgebra::Vector1::new(alpha)), &init.u, spin).map_err(core_init)?
+                    model.state_from_parts(&init.g, &So2::exp(&nalgebra::Vector1::new(alpha)), &init.u, spin).map_err(|e| self.state_error(e))?
                 };
                 boxed(model, y, span, twin).map_err(run)
             }
@@ -122,7 +121,7 @@ impl Scene {
                 let body = Point::new(b.mass).map_err(|e| SceneError::from_core("body.mass", e))?;
                 let twin = chart.map(|c| twin::<_, _, 3, 3, 4>(PointLagrangian::new(c, &body, pot.clone())));
                 let model = PointModel::new(m, body, pot).map_err(|e| SceneError::from_core("potential", e))?;
-                let y = model.state_from_parts(&init.g, &init.u).map_err(|e| init_error(e).with_note(&self.body_note()))?;
+                let y = model.state_from_parts(&init.g, &init.u).map_err(|e| self.state_error(e))?;
                 boxed(model, y, span, twin).map_err(run)
             }
             BodyKind::Gyroscope => {
@@ -150,14 +149,14 @@ impl Scene {
                         return Err(SceneError::invalid("initial.orientation", "(given with frame)", "give frame or orientation, not both"));
                     }
                     let e = frame_matrix::<3, 4>(fr)?;
-                    model.state(&init.p, &init.v, &e, &spin_e).map_err(|e| init_error(e).with_note(&self.body_note()))?
+                    model.state(&init.p, &init.v, &e, &spin_e).map_err(|e| self.state_error(e))?
                 } else {
                     let rv = match &i.orientation {
                         Some(o) => vec3(o, "initial.orientation")?,
                         None => nalgebra::Vector3::zeros(),
                     };
                     let rho = So3::exp(&rv);
-                    model.state_from_parts(&init.g, &rho, &init.u, &(rho.matrix() * spin_e)).map_err(|e| init_error(e).with_note(&self.body_note()))?
+                    model.state_from_parts(&init.g, &rho, &init.u, &(rho.matrix() * spin_e)).map_err(|e| self.state_error(e))?
                 };
                 boxed(model, y, span, twin).map_err(run)
             }
@@ -215,26 +214,23 @@ impl Scene {
             None => SMatrix::zeros(),
         };
         let run = |e: SolveError| SceneError::invalid("initial", "(state)", e.to_string());
-        // J built from `inertia`: an error in J is one in inertia.
-        let body_err = |e: crate::Error| self.body_error(e);
-        let model_err = body_err;
         macro_rules! go {
             ($body:ty, $c:ty) => {{
-                let body = <$body>::new(b.mass, j).map_err(body_err)?;
-                let model = AffineBodyModel::<B, _, $c, N, E>::new(m, body, pot).map_err(model_err)?;
-                let y = model.state(&init.g, &rho, &init.u, &rho_dot).map_err(|e| init_error(e).with_note(&self.body_note()))?;
+                let body = <$body>::new(b.mass, j).map_err(|e| self.body_error(e))?;
+                let model = AffineBodyModel::<B, _, $c, N, E>::new(m, body, pot).map_err(|e| self.body_error(e))?;
+                let y = model.state(&init.g, &rho, &init.u, &rho_dot).map_err(|e| self.state_error(e))?;
                 boxed(model, y, span, None).map_err(run)
             }};
         }
         match b.kind {
             BodyKind::Affine => {
-                let body = Affine::<N>::new(b.mass, j).map_err(body_err)?;
+                let body = Affine::<N>::new(b.mass, j).map_err(|e| self.body_error(e))?;
                 let twin = match chart {
-                    Some(make) => Some(make(b.mass, j, pot.clone()).map_err(body_err)?),
+                    Some(make) => Some(make(b.mass, j, pot.clone()).map_err(|e| self.body_error(e))?),
                     None => None,
                 };
-                let model = AffineBodyModel::<B, _, Unconstrained, N, E>::new(m, body, pot).map_err(model_err)?;
-                let y = model.state(&init.g, &rho, &init.u, &rho_dot).map_err(|e| init_error(e).with_note(&self.body_note()))?;
+                let model = AffineBodyModel::<B, _, Unconstrained, N, E>::new(m, body, pot).map_err(|e| self.body_error(e))?;
+                let y = model.state(&init.g, &rho, &init.u, &rho_dot).map_err(|e| self.state_error(e))?;
                 boxed(model, y, span, twin).map_err(run)
             }
             BodyKind::Incompressible => go!(Incompressible<N>, Isochoric),
@@ -280,19 +276,20 @@ impl Scene {
         }
     }
 
-    /// The body's parameters as `body.mass = 1.0, body.inertia = 0.2` (for
-    /// notes on errors of the initial state, which they scale).
-    fn body_note(&self) -> String {
+    /// An error of the initial state from the core ([`init_error`]), with
+    /// the body's parameters, which scale the state (`body.mass = 1.0,
+    /// body.inertia = 0.2`).
+    fn state_error(&self, e: crate::Error) -> SceneError {
         let b = &self.body;
-        let mut out = format!("body.mass = {:?}", b.mass);
+        let mut note = format!("body.mass = {:?}", b.mass);
         if let Some(i) = b.inertia {
-            out.push_str(&format!(", body.inertia = {i:?}"));
+            note.push_str(&format!(", body.inertia = {i:?}"));
         }
-        out
+        init_error(e).with_note(&note)
     }
 
     /// An error of a body whose J may have been built from `inertia`: then
-    /// it is reported at `body.inertia`.
+    /// it is reported at `body.inertia` (J = inertia·1).
     fn body_error(&self, e: crate::Error) -> SceneError {
         let about_j = matches!(&e, crate::Error::Constraint { field: "J", .. } | crate::Error::InvalidParameter { field: "J", .. } | crate::Error::NotFinite { field: "J" });
         match self.body.inertia {

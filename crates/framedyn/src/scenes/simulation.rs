@@ -13,7 +13,7 @@ use super::error::{RunError, SceneError};
 use super::observe::{Observe, Row, Sel};
 use super::plan::Plan;
 use super::sink::{Column, EventHit, RecordSink};
-use super::summary::{Progress, RunFailure, RunSummary, SceneStop};
+use super::summary::{nan_max, Progress, RunFailure, RunSummary, SceneStop};
 use crate::lie::LieGroup;
 use crate::method::registry::{Built, ChartMethod, Needs};
 use crate::method::{Method, StepRequest};
@@ -87,17 +87,11 @@ impl<S: Observe> Records<'_, S> {
         let s = &mut *self.summary;
         if s.records == 0 {
             self.mm0 = self.mm_idx.iter().map(|&j| self.buf[j]).collect();
-            s.energy_initial = energy;
         }
         for (k, &j) in self.mm_idx.iter().enumerate() {
-            let d = (self.buf[j] - self.mm0[k]).abs();
-            let m = &mut s.momentum_map_drift;
-            *m = if d.is_nan() || m.is_nan() { f64::NAN } else { m.max(d) };
+            s.momentum_map_drift = nan_max(s.momentum_map_drift, (self.buf[j] - self.mm0[k]).abs());
         }
-        let d = (energy - s.energy_initial).abs();
-        s.energy_drift = if d.is_nan() || s.energy_drift.is_nan() { f64::NAN } else { s.energy_drift.max(d) };
-        s.max_defect = if defect.is_nan() || s.max_defect.is_nan() { f64::NAN } else { s.max_defect.max(defect) };
-        s.records += 1;
+        s.note(energy, defect);
     }
 }
 
@@ -484,7 +478,7 @@ impl Simulation {
     /// method (stepping API; [`Self::run`] always starts again from the
     /// initial state).
     pub fn step(&mut self, h: f64) -> Result<(), SolveError> {
-        self.note_stepping();
+        self.start_stepping();
         let out = self.engine.step(&self.plan.method, h);
         self.note_stepping();
         out
@@ -499,25 +493,26 @@ impl Simulation {
     /// [`Self::advance`], stopping cleanly within a few hundred steps after
     /// `cancel` is raised ([`StopReason::Cancelled`], the state reached kept).
     pub fn advance_cancellable(&mut self, h: f64, n: usize, cancel: &AtomicBool) -> Result<StopReason, SolveError> {
-        self.note_stepping();
+        self.start_stepping();
         let out = self.engine.advance(&self.plan.method, h, n, cancel);
         self.note_stepping();
         out
     }
 
+    /// Starts the stepping record with the current state, unless it runs:
+    /// a call starts where the previous one ended, already noted.
+    fn start_stepping(&mut self) {
+        if self.stepping.is_none() {
+            self.note_stepping();
+        }
+    }
+
     /// Notes the current state in the stepping record (the first note
-    /// starts it).
+    /// starts it) and judges the record.
     fn note_stepping(&mut self) {
         let (energy, defect, t) = (self.engine.energy(), self.engine.defect(), self.engine.t());
-        let s = self.stepping.get_or_insert_with(|| {
-            let mut s = RunSummary::new(self.plan.method.display(), t);
-            s.energy_initial = energy;
-            s
-        });
-        let d = (energy - s.energy_initial).abs();
-        s.energy_drift = if d.is_nan() || s.energy_drift.is_nan() { f64::NAN } else { s.energy_drift.max(d) };
-        s.max_defect = if defect.is_nan() || s.max_defect.is_nan() { f64::NAN } else { s.max_defect.max(defect) };
-        s.records += 1;
+        let s = self.stepping.get_or_insert_with(|| RunSummary::new(self.plan.method.display(), t));
+        s.note(energy, defect);
         s.t_reached = t;
         s.judge(self.plan.quality);
     }

@@ -167,6 +167,24 @@ impl RunSummary {
         }
     }
 
+    /// Notes one state's energy and constraint defect: the first note sets
+    /// `E₀`; the drift and the defect keep their maximum, NaN once any value
+    /// is NaN.
+    pub(crate) fn note(&mut self, energy: f64, defect: f64) {
+        if self.records == 0 {
+            self.energy_initial = energy;
+        }
+        self.energy_drift = nan_max(self.energy_drift, (energy - self.energy_initial).abs());
+        self.max_defect = nan_max(self.max_defect, defect);
+        self.records += 1;
+    }
+
+    /// The quality warnings as text (what the command line, the Python
+    /// statistics and the sweep's `.npz` show).
+    pub fn warning_texts(&self) -> Vec<String> {
+        self.warnings.iter().map(|w| w.to_string()).collect()
+    }
+
     /// The names of [`Self::numbers`], in its order.
     pub const NUMBER_NAMES: [&'static str; 12] = [
         "steps",
@@ -206,6 +224,16 @@ impl RunSummary {
     /// `energy_drift / max(|E₀|, 1e-300)`.
     pub fn relative_energy_drift(&self) -> f64 {
         self.energy_drift / self.energy_initial.abs().max(1e-300)
+    }
+}
+
+/// `max(a, b)`, NaN if either is NaN (a drift that was once undefined
+/// stays so).
+pub(crate) fn nan_max(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.max(b)
     }
 }
 
