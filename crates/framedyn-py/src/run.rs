@@ -112,6 +112,15 @@ pub(crate) fn check_user(py: Python<'_>, callable: Option<Py<PyAny>>, gradient: 
     Ok(Some(UserCallables { value: Arc::new(callable), gradient: gradient.map(Arc::new) }))
 }
 
+/// The float a user callable returned, or a `TypeError` naming the
+/// callable (`what`) and the type it returned instead.
+fn returned_float(py: Python<'_>, out: &Py<PyAny>, what: &str) -> PyResult<f64> {
+    out.extract::<f64>(py).map_err(|_| {
+        let kind = out.bind(py).get_type().name().map_or_else(|_| "?".to_string(), |n| n.to_string());
+        pyo3::exceptions::PyTypeError::new_err(format!("{what} returned a {kind}; it must return a float"))
+    })
+}
+
 /// The Python callables `V(x, e) -> float` and `G(x, e) -> (∂V/∂x, ∂V/∂e)`
 /// (optional) as the core's user potential: `x` the embedding position
 /// (shape `(E,)`), `e` the body frame vectors as rows (shape `(N, E)`),
@@ -123,11 +132,7 @@ pub(crate) fn user_functions(user: &UserCallables, slot: &ErrorSlot) -> UserFunc
         let mut v = f64::NAN;
         with_slot(&s, |py| {
             let (xa, ea) = position_and_frame(py, x, e)?;
-            let out = callable.call1(py, (xa, ea))?;
-            v = out.extract::<f64>(py).map_err(|_| {
-                let kind = out.bind(py).get_type().name().map_or_else(|_| "?".to_string(), |n| n.to_string());
-                pyo3::exceptions::PyTypeError::new_err(format!("user_potential(x, e) returned a {kind}; it must return a float (the potential's value)"))
-            })?;
+            v = returned_float(py, &callable.call1(py, (xa, ea))?, "user_potential(x, e)")?;
             Ok(())
         });
         v
@@ -214,11 +219,7 @@ fn user_events(events: &[PyEvent], names: Vec<String>, slot: &ErrorSlot) -> Vec<
                         for (n, v) in names.iter().zip(row) {
                             d.set_item(n, *v)?;
                         }
-                        let out = callable.call1(py, (t, d))?;
-                        out.extract::<f64>(py).map_err(|_| {
-                            let kind = out.bind(py).get_type().name().map_or_else(|_| "?".to_string(), |n| n.to_string());
-                            pyo3::exceptions::PyTypeError::new_err(format!("the event function f(t, state) returned a {kind}; it must return a float"))
-                        })
+                        returned_float(py, &callable.call1(py, (t, d))?, "the event function f(t, state)")
                     })();
                     match result {
                         Ok(v) => v,
