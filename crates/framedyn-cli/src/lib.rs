@@ -325,12 +325,11 @@ fn run_sweep(
         println!("output:          {} ({} records{})", written.display(), out.offsets.last().copied().unwrap_or(0), if interrupted { ", partial" } else { "" });
     }
     if interrupted {
-        let sig = signals::received().unwrap_or(2);
+        let (code, name) = signals::interruption();
         return Err((
-            signals::exit_code(sig),
+            code,
             format!(
-                "interrupted by {}; {} holds the members computed so far (status `cancelled` for the rest); {} was left as it was",
-                signals::name(sig),
+                "interrupted by {name}; {} holds the members computed so far (status `cancelled` for the rest); {} was left as it was",
                 written.display(),
                 output.display()
             ),
@@ -400,12 +399,12 @@ fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option
     let event_columns = sink.column_names();
     // How the run ended decides where its records go: a complete run onto
     // the target, a failed or interrupted one beside it as a partial result.
-    let signal = signals::received();
     let failure = match (&summary.stop, &err) {
-        (_, Some(e)) => Some((EXIT_INTEGRATION, e.to_string())),
+        (_, Some(e @ RunError::Integration(_))) => Some((EXIT_INTEGRATION, e.to_string())),
+        (_, Some(e)) => Some((EXIT_IO, e.to_string())),
         (SceneStop::Cancelled, None) => {
-            let sig = signal.unwrap_or(2);
-            Some((signals::exit_code(sig), format!("interrupted by {} at t = {}", signals::name(sig), summary.t_reached)))
+            let (code, name) = signals::interruption();
+            Some((code, format!("interrupted by {name} at t = {}", summary.t_reached)))
         }
         _ => None,
     };

@@ -23,27 +23,18 @@ pub fn arm() -> &'static AtomicBool {
     &CANCEL
 }
 
-/// The number of the signal that raised the flag since [`arm`], if any.
-pub fn received() -> Option<i32> {
-    match SIGNAL.load(Ordering::SeqCst) {
-        0 => CANCEL.load(Ordering::SeqCst).then_some(2),
-        s => i32::try_from(s).ok(),
-    }
-}
-
-/// The conventional name of signal `sig`.
-pub fn name(sig: i32) -> &'static str {
-    match sig {
+/// After a run stopped by the flag: the exit code (128 + the signal's
+/// number) and the signal's name. SIGINT when no signal was recorded (the
+/// flag raised by Ctrl-C's fallback handler off unix).
+pub fn interruption() -> (u8, &'static str) {
+    let sig = i32::try_from(SIGNAL.load(Ordering::SeqCst)).ok().filter(|&s| s != 0).unwrap_or(2);
+    let name = match sig {
         1 => "SIGHUP",
         2 => "SIGINT",
         15 => "SIGTERM",
         _ => "a signal",
-    }
-}
-
-/// The exit code after signal `sig`: 128 + its number.
-pub fn exit_code(sig: i32) -> u8 {
-    u8::try_from(128 + sig).unwrap_or(130)
+    };
+    (u8::try_from(128 + sig).unwrap_or(130), name)
 }
 
 #[cfg(unix)]
