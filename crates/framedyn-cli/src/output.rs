@@ -41,7 +41,7 @@ impl FileSink {
         let (raw, file) = match format {
             Format::Csv => (None, create(&tmp)?),
             Format::Npz => {
-                let raw = target.temporary("raw");
+                let raw = target.temporary_name("raw");
                 let f = create(&raw)?;
                 (Some(raw), f)
             }

@@ -114,9 +114,14 @@ impl Target {
     /// longer run) are removed first.
     pub fn temporary(&self, kind: &str) -> PathBuf {
         remove_stale(&self.resolved);
-        let pid = std::process::id();
-        let dir = parent_of(&self.resolved);
-        dir.join(temp_name(&file_name(&self.resolved), kind, pid))
+        self.temporary_name(kind)
+    }
+
+    /// The name [`Self::temporary`] gives, without the removal of stale
+    /// files (for a second temporary file of the same target, the directory
+    /// already cleaned).
+    pub fn temporary_name(&self, kind: &str) -> PathBuf {
+        parent_of(&self.resolved).join(temp_name(&file_name(&self.resolved), kind, std::process::id()))
     }
 
     /// Renames the complete temporary file `tmp` onto the target.
@@ -197,11 +202,11 @@ fn remove_stale(target: &Path) {
     for entry in entries.flatten() {
         let fname = entry.file_name();
         let Some(fname) = fname.to_str() else { continue };
-        let Some((kind, pid)) = stale_parts(fname, &name) else { continue };
+        let Some((_, pid)) = stale_parts(fname, &name) else { continue };
         if pid == own || Path::new("/proc").join(pid.to_string()).exists() {
             continue;
         }
-        if KINDS.contains(&kind) && entry.file_type().is_ok_and(|t| t.is_file()) {
+        if entry.file_type().is_ok_and(|t| t.is_file()) {
             let _ = fs::remove_file(entry.path());
         }
     }
