@@ -209,10 +209,10 @@ where
     }
 
     // A dispatch, called (not inlined) from the driver's loops: inlined, it
-    // copied every method's step into every loop of every model, and the
-    // release build of the core took three times as long
-    // (docs/development.md). The implicit midpoint rule is called directly:
-    // its step is not inlined anywhere.
+    // would copy every method's step into every loop of every model
+    // (docs/development.md, "What the core's size is made of"). The
+    // implicit midpoint rule is called directly: its step is not inlined
+    // anywhere.
     fn step(&self, sys: &S, t: f64, y: &S::State, h: f64, req: StepRequest<Alg<S>>) -> Result<StepOutput<S::State>, StepFault> {
         match self {
             AnyMethod::Rkmk1(m) => own_step(m, sys, t, y, h, req),
