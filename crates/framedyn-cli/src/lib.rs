@@ -1,12 +1,12 @@
 //! `framedyn`: scenes in, trajectories out.
 //!
 //! ```text
-//! framedyn run [SCENE] [--output PATH] [--format csv|npz] [--quiet]
+//! framedyn run [SCENE] [--output PATH] [--format csv|npz] [--quiet] [--no-space-check]
 //! framedyn scenes                # list the embedded example scenes
 //! framedyn scenes show NAME      # print one (a starting point for your own)
 //! framedyn validate SCENE        # check a scene without running it
 //! framedyn methods               # the integration methods (the registry)
-//! framedyn sweep SCENE --table members.csv|npz [--output results.npz] [--keep all|final] [--samples K] [--threads N]
+//! framedyn sweep SCENE --table members.csv|npz [--output results.npz] [--keep all|final] [--samples K] [--threads N] [--no-space-check]
 //! ```
 //!
 //! `SCENE` is a TOML or JSON file, or the name of an embedded scene; without
@@ -33,6 +33,14 @@
 //! a `# partial: …` line, an `.npz` with `stop` = `partial: …`), the summary
 //! names that file, and the exit code says why.
 //!
+//! Disk space ([`space`]): when the record count is known before the run
+//! (fixed steps, `output.times` or `output.samples`; a sweep: its members'),
+//! `run` and `sweep` estimate the output's size; above 10 GB they say so,
+//! and an output that cannot fit in the free space of the file system that
+//! will hold it is refused before the run starts (exit 5, nothing written;
+//! the message names the estimate, the free space, the directory and the
+//! settings that make the output smaller). `--no-space-check` runs anyway.
+//!
 //! Signals ([`signals`]): SIGINT (Ctrl-C), SIGTERM and SIGHUP stop a run or
 //! a sweep, keep the part computed as a partial result, remove temporary
 //! files, and exit with 128 + the signal's number; a second signal exits at
@@ -40,8 +48,8 @@
 //!
 //! Exit codes: 0 success; 2 bad command line; 3 invalid scene or table;
 //! 4 integration failure (the partial result holds the records up to the
-//! last good state); 5 I/O error or refused output path (nothing is
-//! written); 6 finished, output complete, but the quality check of the
+//! last good state); 5 I/O error, refused output path, or not enough free
+//! space for the output (nothing is written); 6 finished, output complete, but the quality check of the
 //! summary failed (energy drift or constraint defect over the scene's
 //! `[quality]` limits, or a non-finite energy or defect); 129, 130, 143
 //! stopped by SIGHUP, SIGINT, SIGTERM (the partial result holds the part
@@ -50,6 +58,7 @@
 
 pub mod output;
 pub mod signals;
+pub mod space;
 pub mod sweep;
 pub mod target;
 
@@ -67,8 +76,6 @@ const EXIT_INVALID: u8 = 3;
 const EXIT_INTEGRATION: u8 = 4;
 /// Exit code: I/O error.
 const EXIT_IO: u8 = 5;
-/// Estimated output size above which `run` says so before starting.
-const LARGE_OUTPUT_BYTES: f64 = 10e9;
 /// Exit code: the run finished and its output is complete, but the quality
 /// check of its summary failed (energy drift, defect, non-finite values).
 const EXIT_QUALITY: u8 = 6;
@@ -95,6 +102,9 @@ enum Command {
         /// No progress bar and no summary.
         #[arg(short, long)]
         quiet: bool,
+        /// Run even if the estimated output exceeds the free space of its file system.
+        #[arg(long)]
+        no_space_check: bool,
     },
     /// List the embedded example scenes, or print one with `show NAME`.
     Scenes {
@@ -133,6 +143,9 @@ enum Command {
         /// No progress bar and no summary.
         #[arg(short, long)]
         quiet: bool,
+        /// Run even if the estimated output exceeds the free space of its file system.
+        #[arg(long)]
+        no_space_check: bool,
     },
 }
 
@@ -258,19 +271,19 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
             println!("{origin}: valid");
             Ok(())
         }
-        Command::Sweep { scene, table, output, keep, samples, threads, oversubscribe, quiet } => {
+        Command::Sweep { scene, table, output, keep, samples, threads, oversubscribe, quiet, no_space_check } => {
             let (s, origin) = load(&scene)?;
             let keep = match (samples, keep) {
                 (Some(k), _) => scenes::Keep::Samples(k),
                 (None, KeepArg::Final) => scenes::Keep::Final,
                 (None, KeepArg::All) => scenes::Keep::All,
             };
-            run_sweep(s, &origin, &table, &output, keep, (threads, oversubscribe), quiet)
+            run_sweep(s, &origin, &table, &output, keep, (threads, oversubscribe), (quiet, !no_space_check))
         }
-        Command::Run { scene, output, format, quiet } => {
+        Command::Run { scene, output, format, quiet, no_space_check } => {
             let name = scene.unwrap_or_else(|| scenes::DEFAULT_SCENE.to_string());
             let (s, origin) = load(&name)?;
-            run_scene(s, &origin, output, format, quiet)
+            run_scene(s, &origin, output, format, (quiet, !no_space_check))
         }
     }
 }
@@ -282,13 +295,23 @@ fn run_sweep(
     output: &std::path::Path,
     keep: scenes::Keep,
     (threads, oversubscribe): (Option<usize>, bool),
-    quiet: bool,
+    (quiet, check_space): (bool, bool),
 ) -> Result<(), (u8, String)> {
     scene.validate().map_err(|e| (EXIT_INVALID, format!("{origin}: invalid scene: {e}")))?;
     let table = sweep::read_table(table).map_err(|e| match e {
         sweep::TableError::Io(m) => (EXIT_IO, m),
         sweep::TableError::Invalid(m) => (EXIT_INVALID, m),
     })?;
+    // The output path is checked before the members run, and so is the
+    // room for what they can write.
+    let target = target::Target::resolve(output).map_err(|e| (EXIT_IO, format!("cannot write the output: {e}")))?;
+    let estimate = sweep::estimate(&scene, &table, keep);
+    announce_or_refuse(
+        &estimate,
+        &target,
+        check_space,
+        "keep fewer records with --keep final or --samples K, or fewer columns with output.quantities, or write elsewhere with --output",
+    )?;
     let cancel = signals::arm();
     let n = table.len() as u64;
     let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
@@ -338,7 +361,22 @@ fn run_sweep(
     Ok(())
 }
 
-fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option<FormatArg>, quiet: bool) -> Result<(), (u8, String)> {
+/// Says before a run when its output could exceed
+/// [`space::LARGE_OUTPUT_BYTES`], and refuses it (exit 5, nothing written)
+/// when it cannot fit in the free space of the target's file system
+/// (unless `check` is off: `--no-space-check`).
+fn announce_or_refuse(estimate: &Option<space::OutputEstimate>, target: &target::Target, check: bool, advice: &str) -> Result<(), (u8, String)> {
+    let Some(estimate) = estimate else { return Ok(()) };
+    if check {
+        space::check(estimate, target.directory(), advice).map_err(|e| (EXIT_IO, e.to_string()))?;
+    }
+    if estimate.is_large() {
+        eprintln!("framedyn: note: this run can write {}; {advice}", estimate.describe());
+    }
+    Ok(())
+}
+
+fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option<FormatArg>, (quiet, check_space): (bool, bool)) -> Result<(), (u8, String)> {
     let mut sim = scene.build().map_err(|e| (EXIT_INVALID, format!("{origin}: invalid scene: {e}")))?;
     let path = output.unwrap_or_else(|| PathBuf::from(scene.output_path()));
     let format = match format {
@@ -348,19 +386,17 @@ fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option
         None if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv")) => Format::Csv,
         None => scene.output_format(),
     };
-    let mut sink = output::FileSink::create(&path, format).map_err(|e| (EXIT_IO, format!("cannot write the output: {e}")))?;
-
-    // A word before a run whose output could fill a disk.
-    let records = sim.record_bound().unwrap_or(0);
-    let bytes = records as f64 * sim.columns().len() as f64 * if format == Format::Npz { 16.0 } else { 20.0 };
-    if bytes > LARGE_OUTPUT_BYTES {
-        eprintln!(
-            "framedyn: note: this run can write up to {records} records × {} columns, about {:.0} GB as {} (with the raw temporary file for npz); record fewer with output.every, output.samples or output.quantities",
-            sim.columns().len(),
-            bytes / 1e9,
-            if format == Format::Npz { "npz" } else { "csv" }
-        );
-    }
+    let target = target::Target::resolve(&path).map_err(|e| (EXIT_IO, format!("cannot write the output: {e}")))?;
+    // A word before a run whose output could fill a disk, and a refusal,
+    // before anything is written, of one that cannot fit.
+    let estimate = sim.record_bound().map(|records| space::OutputEstimate::new(records, sim.columns().len(), format));
+    announce_or_refuse(
+        &estimate,
+        &target,
+        check_space,
+        "record fewer with output.every, output.samples or output.quantities, or write elsewhere with --output",
+    )?;
+    let mut sink = output::FileSink::create_at(target, format).map_err(|e| (EXIT_IO, format!("cannot write the output: {e}")))?;
     let cancel = signals::arm();
     let show_bar = !quiet && std::io::stderr().is_terminal();
     let started = Instant::now();

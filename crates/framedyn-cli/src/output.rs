@@ -35,7 +35,11 @@ impl FileSink {
     /// A sink for `target`, checked against the output policy
     /// ([`Target::resolve`]).
     pub fn create(target: &Path, format: Format) -> io::Result<FileSink> {
-        let target = Target::resolve(target)?;
+        FileSink::create_at(Target::resolve(target)?, format)
+    }
+
+    /// A sink for a target already checked against the output policy.
+    pub fn create_at(target: Target, format: Format) -> io::Result<FileSink> {
         let tmp = target.temporary("tmp");
         let create = |p: &Path| File::create(p).map_err(|e| io::Error::new(e.kind(), format!("cannot create {}: {e}", p.display())));
         let (raw, file) = match format {

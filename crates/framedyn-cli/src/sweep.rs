@@ -10,9 +10,10 @@ use std::fs::{self, File};
 use std::io::{self, BufRead, BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
-use framedyn::scenes::{Ensemble, MemberStatus, Table};
+use framedyn::scenes::{Ensemble, Keep, MemberStatus, RunSummary, Scene, Table};
 
 use crate::output::{npy_header, npy_strings};
+use crate::space::OutputEstimate;
 use crate::target::Target;
 
 /// Why a table could not be read: the message names the file, the line or
@@ -217,6 +218,28 @@ pub fn write_ensemble(target: &Path, table: &Table, out: &Ensemble, partial: boo
         let _ = fs::remove_file(&tmp);
     }
     result.map(|()| dest.resolved().to_path_buf())
+}
+
+/// The size of the `.npz` a sweep of `table` on `base` (a valid scene) will
+/// write, before it runs ([`write_ensemble`]'s layout): per member, the
+/// records it keeps (`keep`: its record bound, or `k` samples, or one),
+/// plus its offset, summary numbers and table values. Members whose record
+/// count is not known in advance (adaptive steps saving every step) and
+/// invalid members count no records, and the strings (statuses, errors,
+/// warnings) are not counted: the estimate is what the file needs at least.
+/// `None` if the base scene cannot be built.
+pub fn estimate(base: &Scene, table: &Table, keep: Keep) -> Option<OutputEstimate> {
+    let columns = base.build().ok()?.columns().len();
+    let n = table.len() as u64;
+    let records = match keep {
+        Keep::Final => n,
+        Keep::Samples(k) => n.saturating_mul(k),
+        Keep::All => (0..table.len())
+            .filter_map(|i| table.member(base, i).ok()?.build().ok()?.record_bound())
+            .fold(0u64, u64::saturating_add),
+    };
+    let per_member = 1 + RunSummary::NUMBER_NAMES.len() + table.names().count();
+    Some(OutputEstimate::sweep(records, columns, n, per_member))
 }
 
 /// `N finished, k failed, …` for the summary.

@@ -94,6 +94,11 @@ impl Target {
         &self.resolved
     }
 
+    /// The directory that holds the resolved file and its temporary files.
+    pub fn directory(&self) -> &Path {
+        parent_of(&self.resolved)
+    }
+
     /// Where a failed or interrupted run's records go: `STEM.partial.EXT`
     /// beside the file that would have been written (`traj.csv` →
     /// `traj.partial.csv`), itself checked against the policy.

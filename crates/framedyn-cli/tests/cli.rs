@@ -291,19 +291,95 @@ fn signals_keep_a_valid_partial_result() {
 }
 
 /// A run whose output could reach hundreds of GB is announced before it
-/// starts (estimate from the step count, the sampling and the columns).
+/// starts (estimate from the step count, the sampling and the columns);
+/// with `--no-space-check` it starts even where it cannot fit.
 #[test]
 fn huge_outputs_are_announced() {
     let dir = tmpdir("huge");
     let text = EXAMPLES.iter().find(|(n, _)| *n == DEFAULT_SCENE).unwrap().1;
     fs::write(dir.join("huge.toml"), text.replace("h = 0.005", "h = 4e-9").replace("every = 4", "every = 1")).unwrap();
-    let child = Command::new(BIN).args(["run", "-q", "huge.toml", "--output", "huge.csv"]).current_dir(&dir).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let child = Command::new(BIN)
+        .args(["run", "-q", "huge.toml", "--output", "huge.csv", "--no-space-check"])
+        .current_dir(&dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
     std::thread::sleep(Duration::from_millis(500));
     assert!(Command::new("kill").args(["-TERM", &child.id().to_string()]).status().unwrap().success());
     let o = child.wait_with_output().unwrap();
     let e = stderr(&o);
     assert!(e.contains("note: this run can write up to 1000000002 records") && e.contains("GB as csv") && e.contains("output.every"), "{e}");
     assert_eq!(code(&o), 143, "{e}");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// Runs `args` in `dir`, killing it if it has not ended after `limit`.
+fn framedyn_within(args: &[&str], dir: &Path, limit: Duration) -> (Output, Duration) {
+    let started = Instant::now();
+    let mut child = Command::new(BIN).args(args).current_dir(dir).stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed() > limit {
+            let _ = child.kill();
+            let o = child.wait_with_output().unwrap();
+            panic!("`framedyn {}` still running after {limit:?}: the check did not come before the run; stderr: {}", args.join(" "), stderr(&o));
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    (child.wait_with_output().unwrap(), started.elapsed())
+}
+
+/// An output that cannot fit in the free space of its file system is
+/// refused before the run starts: exit 5, a message naming the estimate,
+/// the free space, the directory and the settings to change, and no file
+/// written — for `run` (CSV and npz) and `sweep`. A small run still runs,
+/// and the CSV estimate per value is near what a real run writes.
+#[test]
+fn free_space_is_checked_before_a_run() {
+    use framedyn_cli::space::{OutputEstimate, CSV_BYTES_PER_VALUE};
+    let dir = tmpdir("space");
+    let shown = fs::canonicalize(&dir).unwrap().display().to_string();
+    let text = EXAMPLES.iter().find(|(n, _)| *n == DEFAULT_SCENE).unwrap().1;
+    // 10^12 fixed steps, every one recorded: hundreds of TB as CSV; a run
+    // that started would take days.
+    let huge = text.replace("h = 0.005", "h = 4e-12\nmax_steps = 10000000000000").replace("every = 4", "every = 1");
+    fs::write(dir.join("huge.toml"), &huge).unwrap();
+    assert_eq!(code(&framedyn(&["validate", "huge.toml"], &dir)), 0, "the scene must be valid: the refusal is about space");
+    let limit = Duration::from_secs(30);
+    for (format, unit) in [("csv", "as csv"), ("npz", "as npz with its raw temporary file")] {
+        let out = format!("huge.{format}");
+        let (o, took) = framedyn_within(&["run", "-q", "huge.toml", "--output", &out], &dir, limit);
+        let e = stderr(&o);
+        assert_eq!(code(&o), 5, "{e}");
+        for part in ["not enough free space", "up to 1000000000002 records", unit, " free", &shown, "output.every", "output.samples", "--output", "nothing was written"] {
+            assert!(e.contains(part), "`{part}` missing from: {e}");
+        }
+        let left: Vec<_> = fs::read_dir(&dir).unwrap().map(|f| f.unwrap().file_name().into_string().unwrap()).filter(|f| f != "huge.toml").collect();
+        assert!(left.is_empty(), "files written: {left:?}");
+        assert!(took < Duration::from_secs(10), "refused after {took:?}");
+    }
+    // A sweep of two such members.
+    fs::write(dir.join("members.csv"), "initial.r\n0.5\n0.6\n").unwrap();
+    let (o, _) = framedyn_within(&["sweep", "huge.toml", "--table", "members.csv", "--output", "sweep.npz"], &dir, limit);
+    let e = stderr(&o);
+    assert_eq!(code(&o), 5, "{e}");
+    for part in ["not enough free space", "up to 2000000000004 records", &shown, "--keep final", "--samples", "--output"] {
+        assert!(e.contains(part), "`{part}` missing from: {e}");
+    }
+    assert!(!dir.join("sweep.npz").exists() && !dir.join("sweep.partial.npz").exists());
+    // A small run and a small sweep still run.
+    let o = framedyn(&["run", "-q", "--output", "small.csv"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stderr(&o).is_empty(), "{}", stderr(&o));
+    let o = framedyn(&["sweep", DEFAULT_SCENE, "--table", "members.csv", "--output", "small.npz", "-q"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(dir.join("small.npz").exists());
+    // The CSV estimate against what the default scene wrote.
+    let (header, rows) = read_csv(&dir.join("small.csv"));
+    let values = (rows.len() * header.len()) as f64;
+    let per_value = fs::metadata(dir.join("small.csv")).unwrap().len() as f64 / values;
+    assert!((0.5 * CSV_BYTES_PER_VALUE..=1.5 * CSV_BYTES_PER_VALUE).contains(&per_value), "{per_value} bytes per value");
+    assert!(OutputEstimate::new(rows.len() as u64, header.len(), framedyn::scenes::Format::Csv).file_bytes >= values * per_value);
     let _ = fs::remove_dir_all(&dir);
 }
 
