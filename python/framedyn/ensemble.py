@@ -26,6 +26,7 @@ ensemble::
 
     out = solve_table(base, {"initial.r": r}, client=client, keep="final", store="runs.zarr")
     out.status, out.stats["energy_drift"]        # (N,) arrays on the client
+    out.warnings[i], out.warnings.flagged         # quality findings of member i; members with any
     zarr.open_group("runs.zarr")["data"]          # (N, records, columns) on disk
 
 The same code runs on a multi-machine cluster (``Client("tcp://scheduler:8786")``)
@@ -35,7 +36,8 @@ or an ``s3://`` / ``gs://`` URL with the matching fsspec package).
 
 from __future__ import annotations
 
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
+import collections.abc
+from typing import Any, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Union, overload
 
 import numpy as np
 
@@ -44,7 +46,7 @@ from ._errors import InvalidInputError
 from ._scene import Scene, as_scenes
 from ._solution import BatchSolution, Solution
 
-__all__ = ["solve_ensemble", "solve_table", "StoredEnsemble"]
+__all__ = ["solve_ensemble", "solve_table", "StoredEnsemble", "MemberWarnings"]
 
 
 def _run_chunk(jsons: List[str], user_potential: Any, threads: Optional[int], user_gradient: Any = None) -> List[Solution]:
@@ -132,8 +134,12 @@ def _table_chunk(base: Any, names: List[str], cols: List[Any], keep: str, sample
         "status": out.status, "status_names": out.status_names, "errors": out.errors, "stats": out.stats, "columns": out.columns, "units": out.units,
         "groups": out.groups, "frame_shape": out.frame_shape, "method": out.method,
         "exceptions": [None if e is None else repr(e) for e in out.exceptions],
-        "warnings": out.warnings,
     }
+    # The quality warnings of the members that have any (most have none):
+    # their indices in the chunk and their findings.
+    flagged = [i for i, w in enumerate(out.warnings) if w]
+    part["warned"] = np.asarray(flagged, dtype=np.int64)
+    part["warned_texts"] = [out.warnings[i] for i in flagged]
     if store is None:
         part.update(flat=out.flat, offsets=out.offsets, events=out.events, event_member=out.event_member)
         return part
@@ -149,18 +155,72 @@ def _table_chunk(base: Any, names: List[str], cols: List[Any], keep: str, sample
     return part
 
 
+class MemberWarnings(collections.abc.Sequence):  # type: ignore[type-arg]
+    """The quality warnings of every member of an ensemble, kept only for
+    the members that have any: ``w[i]`` is member ``i``'s findings (a list
+    of str, empty when its run is sound), as ``EnsembleSolution.warnings[i]``;
+    ``flagged`` the indices of the members with warnings; ``list(w)`` the
+    list of lists ``solve_batch`` gives."""
+
+    __slots__ = {"flagged": "Indices of the members with warnings, ascending ``(k,)`` int64.", "_n": "Members.", "_texts": "Member index → findings."}
+
+    def __init__(self, n: int, flagged: np.ndarray, texts: List[List[str]]) -> None:
+        order = np.argsort(flagged, kind="stable")
+        self.flagged: np.ndarray = np.asarray(flagged, dtype=np.int64)[order]
+        self._n = int(n)
+        self._texts: Dict[int, List[str]] = {int(self.flagged[k]): list(texts[int(j)]) for k, j in enumerate(order)}
+
+    def __len__(self) -> int:
+        return self._n
+
+    @overload
+    def __getitem__(self, i: int) -> List[str]: ...
+
+    @overload
+    def __getitem__(self, i: slice) -> List[List[str]]: ...
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(self._n))]
+        if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not -self._n <= int(i) < self._n:
+            raise IndexError(f"member index {i!r} out of range for {self._n} members")
+        return list(self._texts.get(int(i) % self._n, []))
+
+    def __iter__(self) -> Iterator[List[str]]:
+        for i in range(self._n):
+            yield list(self._texts.get(i, []))
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, MemberWarnings):
+            return self._n == other._n and self._texts == other._texts
+        if isinstance(other, collections.abc.Sequence) and not isinstance(other, (str, bytes)):
+            return len(other) == self._n and all(list(a) == b for a, b in zip(other, self))
+        return NotImplemented
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        return f"MemberWarnings({len(self.flagged)} of {self._n} members with warnings)"
+
+
 class StoredEnsemble:
     """A columnar ensemble whose records are in a Zarr store: per member
-    ``status``, ``errors``, ``stats`` (on the client) and the store's path;
-    :meth:`open` gives the Zarr group with ``data`` (``(N, records,
-    columns)``, NaN for members without records), ``status`` and the
-    summaries, and the ``columns``/``units`` attributes."""
+    ``status``, ``errors``, ``stats`` and ``warnings`` (on the client) and
+    the store's path; :meth:`open` gives the Zarr group with ``data``
+    (``(N, records, columns)``, NaN for members without records),
+    ``status``, the summaries, ``warnings`` (strings, each member's findings
+    joined by ``"; "``, empty when none) and the ``columns``/``units``
+    attributes."""
 
     __slots__ = {"path": "The Zarr store.", "status": "Per member: how it ended.", "errors": "Per member: message or None.",
-                 "stats": "Per-member summaries, a dict of ``(N,)`` arrays.", "columns": "Record columns."}
+                 "stats": "Per-member summaries, a dict of ``(N,)`` arrays.", "columns": "Record columns.",
+                 "warnings": "Per member: the quality check's findings (:class:`MemberWarnings`; ``warnings[i]`` is a list of str, "
+                             "empty when the run is sound), as ``EnsembleSolution.warnings``."}
 
-    def __init__(self, path: str, status: np.ndarray, errors: List[Optional[str]], stats: Dict[str, np.ndarray], columns: List[str]) -> None:
+    def __init__(self, path: str, status: np.ndarray, errors: List[Optional[str]], stats: Dict[str, np.ndarray], columns: List[str],
+                 warnings: Optional[MemberWarnings] = None) -> None:
         self.path, self.status, self.errors, self.stats, self.columns = path, status, errors, stats, columns
+        self.warnings: MemberWarnings = warnings if warnings is not None else MemberWarnings(len(status), np.empty(0, np.int64), [])
 
     def __len__(self) -> int:
         return int(self.status.shape[0])
@@ -246,7 +306,12 @@ def solve_table(
     parts = client.gather(futures)
     status = np.concatenate([p["status"] for p in parts])
     errors = [e for p in parts for e in p["errors"]]
-    quality = [w for p in parts for w in p["warnings"]]
+    starts = np.cumsum([0] + [len(p["status"]) for p in parts[:-1]])
+    warned = MemberWarnings(
+        n,
+        np.concatenate([p["warned"] + k for p, k in zip(parts, starts)]) if parts else np.empty(0, np.int64),
+        [w for p in parts for w in p["warned_texts"]],
+    )
     stats = {k: np.concatenate([p["stats"][k] for p in parts]) for k in parts[0]["stats"]}
     columns: List[str] = next((p["columns"] for p in parts if p["columns"]), [])
     names_of_status: List[str] = parts[0]["status_names"]
@@ -258,14 +323,16 @@ def solve_table(
         g.attrs["status_names"] = names_of_status
         for k, v in stats.items():
             g.create_array(k, shape=(n,), chunks=(chunk_size,), dtype="f8")[:] = v
-        return StoredEnsemble(store, status, errors, stats, columns)
+        texts = g.create_array("warnings", shape=(n,), chunks=(chunk_size,), dtype=str, fill_value="")
+        if len(warned.flagged):
+            texts.set_coordinate_selection(warned.flagged, np.array(["; ".join(warned[int(i)]) for i in warned.flagged], dtype=object))
+        return StoredEnsemble(store, status, errors, stats, columns, warned)
     flat = np.concatenate([p["flat"] for p in parts]) if parts else np.empty((0, 0))
     offsets = [0]
     for p in parts:
         base_row = offsets[-1]
         offsets.extend(base_row + int(o) for o in p["offsets"][1:])
     ev_rows = [p["events"] for p in parts]
-    shift = np.cumsum([0] + [len(p["status"]) for p in parts[:-1]])
     raw = {
         "data": flat if flat.size else flat.reshape(0, len(columns)), "offsets": np.asarray(offsets, dtype=np.int64),
         "columns": columns, "units": next((p["units"] for p in parts if p["columns"]), []),
@@ -273,9 +340,9 @@ def solve_table(
         "frame_shape": next((p["frame_shape"] for p in parts if p["columns"]), (0, 0)),
         "status_names": names_of_status,
         "status": np.array([codes[str(s)] for s in status], dtype=np.uint8),
-        "errors": errors, "exceptions": [None] * n, "warnings": quality, "summary": stats, "method": parts[0]["method"] if parts else None,
+        "errors": errors, "exceptions": [None] * n, "warnings": list(warned), "summary": stats, "method": parts[0]["method"] if parts else None,
         "events": {
-            "member": np.concatenate([p["event_member"] + k for p, k in zip(parts, shift)]) if parts else np.empty(0, np.int64),
+            "member": np.concatenate([p["event_member"] + k for p, k in zip(parts, starts)]) if parts else np.empty(0, np.int64),
             "index": np.concatenate([e.index for e in ev_rows]) if parts else np.empty(0, np.int64),
             "name": [nm for e in ev_rows for nm in e.name],
             "t": np.concatenate([e.t for e in ev_rows]) if parts else np.empty(0),

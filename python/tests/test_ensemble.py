@@ -92,3 +92,39 @@ def test_columnar_ensemble_into_a_zarr_store(client, tmp_path):
     assert np.array_equal(g["steps"][:], local.stats["steps"], equal_nan=True)
     with pytest.raises(fd.InvalidInputError, match="keep='final' or samples"):
         solve_table(base, table, client=client, store=path, keep="all")
+
+
+def test_stored_ensemble_carries_the_quality_warnings(client, tmp_path):
+    zarr = pytest.importorskip("zarr")
+    from framedyn.ensemble import MemberWarnings, StoredEnsemble, _table_chunk, solve_table
+
+    # A tiny energy-drift limit: the members with a coarse step fail the
+    # quality check, those with a fine step pass; member 2 is invalid.
+    d = gyro_s2(t_end=1.0).to_dict()
+    d["quality"] = {"energy_drift": 1e-9}
+    base = fd.Scene.from_dict(d)
+    table = {"method.h": np.array([0.002, 0.1, 0.002, 0.2, 0.001, 0.1, 0.002]),
+             "initial.r": np.array([0.5, 0.6, -2.0, 0.7, 0.8, 0.9, 1.0])}
+    local = fd.solve_batch(base, table, samples=6, on_error="keep")
+    flagged = [i for i, w in enumerate(local.warnings) if w]
+    assert flagged == [1, 3, 5] and all("energy drift" in local.warnings[i][0] for i in flagged)
+
+    path = str(tmp_path / "runs.zarr")
+    out = solve_table(base, table, client=client, chunk_size=3, samples=6, store=path)
+    assert isinstance(out, StoredEnsemble) and isinstance(out.warnings, MemberWarnings)
+    assert len(out.warnings) == 7 and list(out.warnings) == local.warnings and out.warnings == local.warnings
+    assert out.warnings.flagged.tolist() == flagged
+    for i in range(7):
+        assert out.warnings[i] == local.warnings[i]
+    assert out.warnings[-2] == local.warnings[5] and out.warnings[1:4] == local.warnings[1:4]
+    with pytest.raises(IndexError):
+        out.warnings[7]
+    # In the store: the findings joined by "; ", empty for sound members.
+    g = zarr.open_group(path, mode="r")
+    assert [str(s) for s in g["warnings"][:]] == ["; ".join(w) for w in local.warnings]
+    # Without a store, the gathered ensemble has them too.
+    mem = solve_table(base, table, client=client, chunk_size=3, samples=6)
+    assert mem.warnings == local.warnings
+    # A chunk sends the findings of its flagged members only.
+    part = _table_chunk(base, list(table), list(table.values()), "all", 6, 1, None, 0, None, None)
+    assert "warnings" not in part and part["warned"].tolist() == flagged and part["warned_texts"] == [local.warnings[i] for i in flagged]
