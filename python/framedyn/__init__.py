@@ -35,7 +35,7 @@ from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional, Seque
 import numpy as np
 
 from . import _framedyn
-from ._errors import FramedynError, IntegrationError, InternalError, InvalidInputError, OutputError, QualityWarning
+from ._errors import MAX_SAMPLES, MAX_THREADS, USIZE_MAX, FramedynError, IntegrationError, InternalError, InvalidInputError, OutputError, QualityWarning, check_int
 from ._scene import INITIAL_FIELDS, Scene, as_scenes
 from ._ensemble import EnsembleSolution, table_columns
 from ._solution import BatchSolution, EventRecords, Solution
@@ -282,8 +282,7 @@ def solve_batch(
         raise InvalidInputError(f"invalid `oversubscribe` = {oversubscribe!r}: must be a bool")
     if on_error not in ("raise", "keep"):
         raise InvalidInputError(f"invalid `on_error` = {on_error!r}: allowed: 'raise', 'keep'")
-    if threads is not None and (not isinstance(threads, int) or isinstance(threads, bool) or not 1 <= threads <= 1024):
-        raise InvalidInputError(f"invalid `threads` = {threads!r}: must be an int in [1, 1024] or None")
+    threads = check_int(threads, "threads", 1, MAX_THREADS, optional=True)
     if isinstance(scenes, Scene) and params is not None and not isinstance(params, (list, tuple)):
         return _solve_table(scenes, params, user_potential, user_gradient, threads, on_error, keep, samples, oversubscribe)
     if keep != "all" or samples is not None:
@@ -323,13 +322,11 @@ def _solve_table(
     if keep not in ("all", "final"):
         raise InvalidInputError(f"invalid `keep` = {keep!r}: allowed: 'all', 'final' (or samples=k)")
     mode = keep
+    samples = check_int(samples, "samples", 2, MAX_SAMPLES, optional=True)
     if samples is not None:
-        if not isinstance(samples, (int, np.integer)) or isinstance(samples, bool) or not 2 <= int(samples) <= 2**53:
-            raise InvalidInputError(f"invalid `samples` = {samples!r}: must be an int ≥ 2")
         if keep == "final":
             raise InvalidInputError("give either keep='final' or samples=k, not both")
         mode = "samples"
-        samples = int(samples)
     names, cols = table_columns(table)
     raw = _framedyn.run_table(scene._native, names, cols, mode, samples, threads, user_potential, user_gradient, oversubscribe)
     out = EnsembleSolution(raw)
@@ -376,10 +373,10 @@ class Stepper:
         self._native.step(self._check_h(h))
 
     def advance(self, h: float, n: int) -> None:
-        """``n`` steps of size ``h``; stops at the first failure."""
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
-            raise InvalidInputError(f"invalid `n` = {n!r}: must be an int ≥ 0")
-        self._native.advance(self._check_h(h), int(n))
+        """``n`` steps of size ``h`` (``n`` an int in [0, 2**64 - 1]); stops
+        at the first failure."""
+        count = check_int(n, "n", 0, USIZE_MAX)
+        self._native.advance(self._check_h(h), count)
 
     @property
     def t(self) -> float:

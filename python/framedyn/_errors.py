@@ -8,7 +8,8 @@ range). They subclass the built-in exception a Python user would expect, so
 
 from __future__ import annotations
 
-from typing import Any, Optional
+import struct
+from typing import Any, Optional, overload
 
 __all__ = [
     "FramedynError",
@@ -56,3 +57,43 @@ class QualityWarning(UserWarning):
 
 class InternalError(FramedynError, RuntimeError):
     """A bug in framedyn (a Rust panic caught at the boundary): please report it."""
+
+
+#: The largest value of Rust's ``usize`` on this machine (a count handed to
+#: the core, such as ``Stepper.advance``'s ``n``).
+USIZE_MAX = 2 ** (8 * struct.calcsize("P")) - 1
+
+#: The largest thread count (``EnsembleOptions::MAX_THREADS`` in Rust).
+MAX_THREADS = 1024
+
+#: The largest ``samples`` (the core's limit on ``output.samples``).
+MAX_SAMPLES = 10**8
+
+
+def _bound(n: int) -> str:
+    return "2**64 - 1" if n == 2**64 - 1 else "2**32 - 1" if n == 2**32 - 1 else f"{n:_}" if n >= 10**5 else str(n)
+
+
+@overload
+def check_int(value: Any, name: str, lo: int, hi: int) -> int: ...
+
+
+@overload
+def check_int(value: Any, name: str, lo: int, hi: int, *, optional: bool) -> Optional[int]: ...
+
+
+def check_int(value: Any, name: str, lo: int, hi: int, *, optional: bool = False) -> Optional[int]:
+    """``value`` as an int if it is one (Python or numpy, not a bool) in
+    ``[lo, hi]``; else an :class:`InvalidInputError` naming the argument and
+    the range. Every integer argument that reaches the Rust core goes through
+    here, so that none raises ``OverflowError`` there."""
+    import numpy as np
+
+    if optional and value is None:
+        return None
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or not lo <= int(value) <= hi:
+        kind = "" if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)) else f" (a {type(value).__name__})"
+        raise InvalidInputError(
+            f"invalid `{name}` = {value!r}{kind}: must be an int in [{_bound(lo)}, {_bound(hi)}]" + (" or None" if optional else "")
+        )
+    return int(value)

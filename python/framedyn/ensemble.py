@@ -42,7 +42,7 @@ from typing import Any, Dict, Iterable, Iterator, List, Mapping, Optional, Seque
 import numpy as np
 
 from ._ensemble import EnsembleSolution, table_columns
-from ._errors import InvalidInputError
+from ._errors import MAX_SAMPLES, MAX_THREADS, InvalidInputError, check_int
 from ._scene import Scene, as_scenes
 from ._solution import BatchSolution, Solution
 
@@ -88,6 +88,7 @@ def solve_ensemble(
         raise InvalidInputError(f"invalid `on_error` = {on_error!r}: allowed: 'raise', 'keep'")
     if chunk_size is not None and (isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1):
         raise InvalidInputError(f"invalid `chunk_size` = {chunk_size!r}: must be an int ≥ 1 or None")
+    threads_per_task = check_int(threads_per_task, "threads_per_task", 1, MAX_THREADS, optional=True)
     members = as_scenes(scenes, params)
     if client is None:
         client = get_client()
@@ -272,6 +273,8 @@ def solve_table(
         raise InvalidInputError(f"invalid `chunk_size` = {chunk_size!r}: must be an int ≥ 1 or None")
     if keep not in ("all", "final"):
         raise InvalidInputError(f"invalid `keep` = {keep!r}: allowed: 'all', 'final' (or samples=k)")
+    threads_per_task = check_int(threads_per_task, "threads_per_task", 1, MAX_THREADS, optional=True)
+    samples = check_int(samples, "samples", 2, MAX_SAMPLES, optional=True)
     if samples is not None:
         keep = "all"
     if store is not None and keep == "all" and samples is None:

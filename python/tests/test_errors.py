@@ -3,7 +3,9 @@ subclasses with the Rust message; a Rust panic never crosses the boundary."""
 
 import errno
 import os
+import sys
 
+import numpy as np
 import pytest
 
 import framedyn as fd
@@ -93,3 +95,64 @@ def test_records_that_cannot_fit_in_memory_are_refused_before_the_run():
     # is not refused on the bound that method.max_steps would give.
     d["method"] = {"name": "dop853", "rtol": 1e-8, "atol": 1e-8}
     assert len(fd.solve(d)) >= 2
+
+
+def _integer_cases():
+    """(call, bad values, argument, allowed range as a regex) for every
+    public integer argument that reaches the Rust core."""
+    scene = fd.Scene.example("s2-gyroscope-pole")
+    table = {"initial.r": [0.5, 0.6]}
+    usize = r"\[0, 2\*\*64 - 1\]" if sys.maxsize > 2**32 else r"\[0, 2\*\*32 - 1\]"
+    common = [2**64, 2**63, -1, True, False, 1.5, "3", np.float64(2.0)]
+    yield lambda v: fd.solve_batch([scene], threads=v), common + [0, 1025], "threads", r"\[1, 1024\]"
+    yield lambda v: fd.solve_batch(scene, table, threads=v, keep="final"), common + [0, 1025], "threads", r"\[1, 1024\]"
+    yield lambda v: fd.solve_batch(scene, table, samples=v), common + [0, 1, 10**8 + 1], "samples", r"\[2, 100_000_000\]"
+    yield lambda v: fd.Stepper(scene).advance(0.01, v), [2**64, 2**65, -1, True, 1.5, "3", None], "n", usize
+    every = r"1 \.\.= 2\^64 − 1|must be ≥ 1"
+    scene_bad = [2**64, 2**70, -1, -(2**63), True, 1.5, "3", [1]]
+    plain = scene.with_params({"output": {}})  # no sampling given: every field can be set
+    for field, extra, allowed in [
+        ("output.every", [0], every),
+        ("output.samples", [0, 1, 10**9, 2**63], r"2 \.\.= 1e8"),
+        ("method.max_steps", [0], every),
+    ]:
+        yield (lambda f: lambda v: plain.with_params({f: v}).validate())(field), scene_bad + extra, field, allowed
+        key = field.split(".")[1]
+        yield (lambda k: lambda v: fd.Scene(manifold="S2", body="point", r=0.5, phi=0.0, r_dot=0.1, h=0.01, t_end=1.0, **{k: v}).validate())(key), \
+            scene_bad + extra, field, allowed
+    implicit = scene.with_params({"method.name": "implicit_midpoint"})
+    yield lambda v: implicit.with_params({"method.newton_max_iter": v}).validate(), scene_bad + [0, 1001, 2**32, 2**40], \
+        "method.newton_max_iter", r"1 \.\.= 1000"
+    try:
+        from framedyn.ensemble import solve_ensemble, solve_table
+    except ImportError:  # pragma: no cover - dask is installed by the test environment
+        return
+    # Checked on the client, before any cluster is needed.
+    yield lambda v: solve_table(scene, table, threads_per_task=v), common + [0], "threads_per_task", r"\[1, 1024\]"
+    yield lambda v: solve_ensemble([scene], threads_per_task=v), common + [0], "threads_per_task", r"\[1, 1024\]"
+    yield lambda v: solve_table(scene, table, samples=v), common + [1], "samples", r"\[2, 100_000_000\]"
+
+
+def test_integer_arguments_are_bounded_with_a_named_range():
+    """Every integer that crosses into Rust, out of its range, of the wrong
+    type or beyond 64 bits, raises InvalidInputError naming the argument and
+    the range it takes: never OverflowError, a panic or a run."""
+    import re
+
+    count = 0
+    for call, values, name, allowed in _integer_cases():
+        for v in values:
+            with pytest.raises(fd.InvalidInputError) as ei:
+                call(v)
+            msg = str(ei.value)
+            assert f"`{name}`" in msg and re.search(allowed, msg), f"{name} = {v!r}: {msg}"
+            count += 1
+    assert count > 100
+    # In range, Python and numpy integers pass.
+    scene = fd.Scene.example("s2-gyroscope-pole")
+    assert len(fd.solve_batch(scene, {"initial.r": [0.5]}, threads=np.int64(1), samples=np.uint64(3))) == 1
+    st = fd.Stepper(scene)
+    st.advance(0.01, np.uint64(3))
+    st.advance(0.01, 0)
+    assert st.t == pytest.approx(0.03)
+    assert scene.with_params({"output.every": 2**64 - 1}).validate() is not None

@@ -52,6 +52,87 @@ impl<'de> Deserialize<'de> for Numbers {
     }
 }
 
+/// Optional integer fields (`method.max_steps`, `method.newton_max_iter`,
+/// `output.every`, `output.samples`): serde's own messages say `expected
+/// u64`; these say the range the field takes. Values within the type's range
+/// are accepted here and checked against the field's range where the scene
+/// is validated (with the field's own error).
+mod count {
+    use super::*;
+
+    /// One integer up to `max`, described as `expected`.
+    #[derive(Clone, Copy)]
+    struct Int {
+        expected: &'static str,
+        max: u64,
+    }
+
+    impl<'de> Visitor<'de> for Int {
+        type Value = u64;
+        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            f.write_str(self.expected)
+        }
+        fn visit_u64<E: de::Error>(self, v: u64) -> Result<u64, E> {
+            if v > self.max {
+                return Err(E::invalid_value(de::Unexpected::Unsigned(v), &self));
+            }
+            Ok(v)
+        }
+        fn visit_i64<E: de::Error>(self, v: i64) -> Result<u64, E> {
+            match u64::try_from(v) {
+                Ok(u) => self.visit_u64(u),
+                Err(_) => Err(E::invalid_value(de::Unexpected::Signed(v), &self)),
+            }
+        }
+        fn visit_f64<E: de::Error>(self, v: f64) -> Result<u64, E> {
+            // JSON integers beyond 64 bits arrive as floats.
+            if v.fract() == 0.0 && v.abs() >= 18_446_744_073_709_551_616.0 {
+                return Err(E::invalid_value(de::Unexpected::Other(&format!("{v:e} (beyond 64 bits)")), &self));
+            }
+            Err(E::invalid_type(de::Unexpected::Float(v), &self))
+        }
+    }
+
+    /// `None` for a JSON `null`, else the integer.
+    struct Opt(Int);
+
+    impl<'de> Visitor<'de> for Opt {
+        type Value = Option<u64>;
+        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            self.0.expecting(f)
+        }
+        fn visit_none<E: de::Error>(self) -> Result<Option<u64>, E> {
+            Ok(None)
+        }
+        fn visit_unit<E: de::Error>(self) -> Result<Option<u64>, E> {
+            Ok(None)
+        }
+        fn visit_some<D: Deserializer<'de>>(self, d: D) -> Result<Option<u64>, D::Error> {
+            d.deserialize_u64(self.0).map(Some)
+        }
+    }
+
+    fn opt<'de, D: Deserializer<'de>>(d: D, expected: &'static str, max: u64) -> Result<Option<u64>, D::Error> {
+        d.deserialize_option(Opt(Int { expected, max }))
+    }
+
+    /// `method.max_steps`, `output.every`.
+    pub(super) fn at_least_one<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u64>, D::Error> {
+        opt(d, "an integer in 1 ..= 2^64 − 1", u64::MAX)
+    }
+
+    /// `output.samples`.
+    pub(super) fn samples<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u64>, D::Error> {
+        opt(d, "an integer in 2 ..= 1e8", u64::MAX)
+    }
+
+    /// `method.newton_max_iter`.
+    pub(super) fn newton_max_iter<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u32>, D::Error> {
+        // `opt` refuses values above u32::MAX, so the conversion cannot fail.
+        opt(d, "an integer in 1 ..= 1000", u64::from(u32::MAX)).map(|v| v.and_then(|n| u32::try_from(n).ok()))
+    }
+}
+
 pub use super::manifolds::{ManifoldKind, ManifoldSpec};
 
 /// The body.
@@ -332,7 +413,7 @@ pub struct MethodSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub atol: Option<f64>,
     /// Limit on the number of accepted steps (default 10⁹).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "count::at_least_one")]
     pub max_steps: Option<u64>,
     /// `implicit_midpoint` only: Newton tolerance (relative, max norm) in
     /// `[1e-16, 1e-2]` (default 1e-14).
@@ -340,7 +421,7 @@ pub struct MethodSpec {
     pub newton_tol: Option<f64>,
     /// `implicit_midpoint` only: Newton iterations per step, `1 ..= 1000`
     /// (default 30).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "count::newton_max_iter")]
     pub newton_max_iter: Option<u32>,
 }
 
@@ -435,13 +516,13 @@ pub enum Format {
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
     /// Record every N-th accepted step (and the first and last state).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "count::at_least_one")]
     pub every: Option<u64>,
     /// Record exactly at these times (within the span).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub times: Option<Vec<f64>>,
     /// Record at this many equally spaced times including both ends (≥ 2).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "count::samples")]
     pub samples: Option<u64>,
     /// Column groups to record (default: all).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -550,4 +631,51 @@ pub struct EventSpec {
     /// Stop the run at the first reported crossing (default false).
     #[serde(default)]
     pub terminal: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scenes::{example, Scene, DEFAULT_SCENE};
+
+    /// The integer fields' errors name the field and its range, in TOML and
+    /// JSON, for negative, boolean, fractional and beyond-64-bit values;
+    /// values within the type's range reach the field's own check.
+    #[test]
+    fn integer_fields_say_their_range() {
+        let json = example(DEFAULT_SCENE).unwrap().to_json_string();
+        let base: serde_json::Value = serde_json::from_str(&json).unwrap();
+        let cases = [
+            ("output", "every", "1 ..= 2^64 − 1"),
+            ("output", "samples", "2 ..= 1e8"),
+            ("method", "max_steps", "1 ..= 2^64 − 1"),
+            ("method", "newton_max_iter", "1 ..= 1000"),
+        ];
+        for (table, field, range) in cases {
+            let path = format!("{table}.{field}");
+            for bad in ["-1", "true", "1.5", "18446744073709551616", "\"3\""] {
+                let mut v = base.clone();
+                if table == "output" {
+                    v[table].as_object_mut().unwrap().remove("every");
+                }
+                v[table][field] = serde_json::from_str(bad).unwrap();
+                let e = Scene::from_json_str(&v.to_string()).unwrap_err().to_string();
+                assert!(e.contains(&format!("`{path}`")) && e.contains(range), "{path} = {bad}: {e}");
+                if bad == "18446744073709551616" {
+                    assert!(e.contains("beyond 64 bits"), "{e}");
+                }
+            }
+            let toml = format!("{}\n", example(DEFAULT_SCENE).unwrap().to_toml_string().replace("every = 4\n", ""));
+            let text = toml.replacen(&format!("[{table}]\n"), &format!("[{table}]\n{field} = -1\n"), 1);
+            let e = Scene::from_toml_str(&text).unwrap_err().to_string();
+            assert!(e.contains(&format!("`{path}`")) && e.contains(range), "{path} = -1 (TOML): {e}");
+        }
+        // In the type's range: parsed, then refused by the field's check.
+        let mut v = base.clone();
+        v["output"]["every"] = 0.into();
+        let e = Scene::from_json_str(&v.to_string()).unwrap().validate().unwrap_err().to_string();
+        assert!(e.contains("output.every") && e.contains("≥ 1"), "{e}");
+        let mut v = base;
+        v["output"]["every"] = serde_json::Value::Null;
+        assert_eq!(Scene::from_json_str(&v.to_string()).unwrap().output.every, None);
+    }
 }
