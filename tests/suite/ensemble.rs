@@ -251,3 +251,75 @@ fn worker_threads_are_bounded_by_members_and_cores() {
     assert_eq!(worker_threads(1_000_000, 10_000, true), EnsembleOptions::MAX_THREADS);
     assert_eq!(worker_threads(1, 0, false), 1);
 }
+
+/// The scene `name`, shortened to about 60 steps and recorded at every
+/// step or at 5 samples (so that changing `time.t_end` keeps it valid).
+fn short(name: &str) -> Scene {
+    let mut s = example(name).unwrap();
+    let span = s.time.t_end - s.time.t0;
+    s.time.t_end = s.time.t0 + span.min(60.0 * s.method.h.unwrap_or(span / 1000.0));
+    if s.output.times.is_some() {
+        s.output.times = None;
+        s.output.samples = Some(5);
+    }
+    s
+}
+
+/// Each worker builds its first member in full and rebuilds only the model
+/// and initial state (and the plan, when the table sets `time.*` or
+/// `method.*`) of the next ones. On every embedded scene — every manifold,
+/// body, potential family and method family, and a coordinate method on
+/// its chart — with one thread (one worker sees every member in turn), the
+/// members equal their single runs bit for bit, and an invalid member in
+/// the middle is reported as the full build reports it without changing the
+/// members after it.
+#[test]
+fn rebuilt_members_equal_single_runs_on_every_embedded_scene() {
+    let mut scenes: Vec<(String, Scene)> = framedyn::scenes::EXAMPLES.iter().map(|(n, _)| (n.to_string(), short(n))).collect();
+    let mut chart = short("s2-gyroscope-cosine");
+    chart.method.name = "coordinate_rk4".into();
+    scenes.push(("s2-gyroscope-cosine, coordinate_rk4".into(), chart));
+    let mut checked = 0;
+    for (name, base) in &scenes {
+        let (m, t0, t_end) = (base.body.mass, base.time.t0, base.time.t_end);
+        let mass = vec![m, 1.25 * m, -1.0, 0.8 * m];
+        let t_ends = vec![t_end, t0 + 0.5 * (t_end - t0), t_end, t0 + 0.75 * (t_end - t0)];
+        for table in [Table::new([("body.mass", mass.clone())]).unwrap(), Table::new([("body.mass", mass.clone()), ("time.t_end", t_ends.clone())]).unwrap()] {
+            let out = ensemble(base, &table, Keep::All, Some(1));
+            let fin = ensemble(base, &table, Keep::Final, Some(1));
+            for i in 0..table.len() {
+                let mut s = base.clone();
+                for c in table.names() {
+                    s.set(c, table.column(c).unwrap()[i]).unwrap();
+                }
+                let member = &out.members[i];
+                match s.build() {
+                    Err(e) => {
+                        assert_eq!(member.status, MemberStatus::Invalid, "{name}, member {i}");
+                        let msg = member.error.as_deref().unwrap();
+                        assert!(msg.starts_with(&e.to_string()) && msg.contains(&format!("member {i}")), "{name}, member {i}: {msg} vs {e}");
+                    }
+                    Ok(mut sim) => {
+                        let mut one = FlatSink::default();
+                        let alone = sim.run(&mut one, &AtomicBool::new(false), &mut |_| {});
+                        assert_eq!(member.status == MemberStatus::Failed, alone.is_err(), "{name}, member {i}");
+                        assert_eq!(bits(out.records(i)), bits(&one.data), "{name}, member {i}");
+                        assert_eq!(&out.columns, &one.columns, "{name}");
+                        // Keep::Final: the last record, built once at the end, and
+                        // the summary of every record.
+                        let n = one.columns.len();
+                        assert_eq!(bits(fin.records(i)), bits(&one.data[one.data.len().saturating_sub(n)..]), "{name}, member {i}, keep final");
+                        let b = alone.as_ref().map_or_else(|f| &f.summary, |s| s);
+                        for a in [member.summary.as_ref().unwrap(), fin.members[i].summary.as_ref().unwrap()] {
+                            let key = |s: &framedyn::scenes::RunSummary| (s.steps, s.rejected, s.records, s.energy_initial.to_bits(), s.energy_drift.to_bits(), s.momentum_map_drift.to_bits(), s.max_defect.to_bits(), s.warnings.clone());
+                            assert_eq!(key(a), key(b), "{name}, member {i}");
+                        }
+                        checked += 1;
+                    }
+                }
+            }
+            assert_eq!(out.members[2].status, MemberStatus::Invalid, "{name}: body.mass = -1 was accepted");
+        }
+    }
+    assert!(checked >= 6 * scenes.len(), "only {checked} members ran");
+}

@@ -4,10 +4,14 @@
 //! and the CLI's `sweep`.
 //!
 //! The table is validated once (names, equal lengths, finite values); each
-//! member is the base scene with its row applied, built and run exactly as
+//! member is the base scene with its row applied, run exactly as
 //! [`Scene::build`] and [`Simulation::run`] would run it alone (the same
-//! driver, so a member's records equal those of the single run bit for
-//! bit). A member that cannot be built or whose integration fails is
+//! model, plan and driver, so a member's records equal those of the single
+//! run bit for bit). Each worker thread builds one simulation in full and
+//! then rebuilds only its model and initial state for each further member
+//! (and its plan if the table sets `method.*` or `time.*`): the columns and
+//! events, which depend on no numeric field, are not made again, and no
+//! scene is cloned per member. A member that cannot be built or whose integration fails is
 //! reported on that member only ([`MemberStatus`], with its message and,
 //! for a failed run, the records up to the failure); the others are not
 //! affected.
@@ -28,6 +32,7 @@
 
 use std::io;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::OnceLock;
 
 use rayon::prelude::*;
 
@@ -36,6 +41,7 @@ use super::fields::FieldPath;
 use super::potential::UserFunctions;
 use super::scene::Scene;
 use super::sink::{Column, EventHit, RecordSink};
+use super::simulation::Simulation;
 use super::summary::{RunSummary, SceneStop};
 
 /// The members of an ensemble: named columns of equal length `N`, each a
@@ -291,10 +297,12 @@ impl RecordSink for MemberSink {
         self.events.push(hit.clone());
         Ok(())
     }
+    fn last_only(&self) -> bool {
+        self.last_only
+    }
 }
 
 struct MemberRun {
-    columns: Option<(Vec<Column>, (usize, usize))>,
     data: Vec<f64>,
     rows: usize,
     events: Vec<EventHit>,
@@ -302,57 +310,92 @@ struct MemberRun {
 }
 
 fn invalid(error: String) -> MemberRun {
-    MemberRun { columns: None, data: Vec::new(), rows: 0, events: Vec::new(), outcome: MemberOutcome { status: MemberStatus::Invalid, summary: None, error: Some(error) } }
+    MemberRun { data: Vec::new(), rows: 0, events: Vec::new(), outcome: MemberOutcome { status: MemberStatus::Invalid, summary: None, error: Some(error) } }
 }
 
-fn run_member(base: &Scene, table: &Table, i: usize, keep: Keep, user: Option<&UserFunctions>, cancel: &AtomicBool) -> MemberRun {
-    let mut scene = match table.member(base, i) {
-        Ok(s) => s,
-        Err(e) => return invalid(e.to_string()),
-    };
-    if let Keep::Samples(k) = keep {
-        scene.output.samples = Some(k);
-        scene.output.every = None;
-        scene.output.times = None;
-    }
-    let built = match user {
-        None => scene.build(),
-        Some(u) => scene.build_with_user(u.clone()),
-    };
-    let mut sim = match built {
-        Ok(sim) => sim,
-        Err(e) => {
-            let msg = match table.blame(&e) {
-                Some(col) => format!("{} (table column `{col}`, member {i})", e),
-                None => format!("{} (member {i})", e),
-            };
-            return invalid(msg);
+/// The record columns and frame shape of the ensemble, taken from the
+/// first member built.
+type Layout = (Vec<Column>, (usize, usize));
+
+/// One worker's members: a scratch copy of the base scene that each
+/// member's row overwrites in place (every member sets the same fields, so
+/// the scratch scene is exactly base + row), and the simulation of the
+/// last member built, whose model and initial state are rebuilt for the
+/// next member ([`Simulation::rebuild`]) — its plan too if the table sets
+/// `method.*` or `time.*` fields — instead of building the whole scene
+/// again (columns, events). A member is built from scratch only until the
+/// first one succeeds.
+struct Worker<'a> {
+    table: &'a Table,
+    keep: Keep,
+    scene: Scene,
+    sim: Option<Simulation>,
+    replan: bool,
+}
+
+impl<'a> Worker<'a> {
+    fn new(base: &Scene, table: &'a Table, keep: Keep) -> Worker<'a> {
+        let mut scene = base.clone();
+        if let Keep::Samples(k) = keep {
+            scene.output.samples = Some(k);
+            scene.output.every = None;
+            scene.output.times = None;
         }
-    };
-    if cancel.load(Ordering::Relaxed) {
-        let mut summary = RunSummary::new(sim.method_name(), sim.span().0);
-        summary.stop = SceneStop::Cancelled;
-        let outcome = MemberOutcome { status: MemberStatus::Cancelled, summary: Some(summary), error: None };
-        return MemberRun { columns: Some((sim.columns().to_vec(), sim.frame_shape())), data: Vec::new(), rows: 0, events: Vec::new(), outcome };
+        let replan = table.columns.iter().any(|(p, _)| p.is_plan());
+        Worker { table, keep, scene, sim: None, replan }
     }
-    let mut sink = MemberSink { last_only: keep == Keep::Final, data: Vec::new(), rows: 0, events: Vec::new() };
-    let (summary, error) = match sim.run(&mut sink, cancel, &mut |_| {}) {
-        Ok(s) => (s, None),
-        Err(f) => (f.summary, Some(f.error)),
-    };
-    let status = match (&error, &summary.stop) {
-        (Some(_), _) => MemberStatus::Failed,
-        (None, SceneStop::Cancelled) => MemberStatus::Cancelled,
-        (None, SceneStop::Event(_)) => MemberStatus::Event,
-        (None, _) => MemberStatus::Finished,
-    };
-    let error = error.map(|e: RunError| format!("member {i}: {e}"));
-    MemberRun {
-        columns: Some((sim.columns().to_vec(), sim.frame_shape())),
-        data: sink.data,
-        rows: sink.rows,
-        events: sink.events,
-        outcome: MemberOutcome { status, summary: Some(summary), error },
+
+    /// Member `i`'s simulation, ready to run, or the message of why it is invalid.
+    fn build(&mut self, i: usize, user: Option<&UserFunctions>) -> Result<&mut Simulation, String> {
+        for (path, values) in &self.table.columns {
+            path.apply(&mut self.scene, values[i]).map_err(|e| at_member(e, i).to_string())?;
+        }
+        let built = match self.sim.as_mut() {
+            Some(sim) => sim.rebuild(&self.scene, user.cloned(), self.replan),
+            None => match user {
+                None => self.scene.build(),
+                Some(u) => self.scene.build_with_user(u.clone()),
+            }
+            .map(|sim| self.sim = Some(sim)),
+        };
+        match (built, self.sim.as_mut()) {
+            (Ok(()), Some(sim)) => Ok(sim),
+            (Ok(()), None) => Err(format!("member {i}: the simulation was not built")),
+            (Err(e), _) => Err(match self.table.blame(&e) {
+                Some(col) => format!("{e} (table column `{col}`, member {i})"),
+                None => format!("{e} (member {i})"),
+            }),
+        }
+    }
+
+    fn run(&mut self, i: usize, user: Option<&UserFunctions>, cancel: &AtomicBool, layout: &OnceLock<Layout>) -> MemberRun {
+        let keep = self.keep;
+        let sim = match self.build(i, user) {
+            Ok(sim) => sim,
+            Err(msg) => return invalid(msg),
+        };
+        layout.get_or_init(|| (sim.columns().to_vec(), sim.frame_shape()));
+        if cancel.load(Ordering::Relaxed) {
+            let mut summary = RunSummary::new(sim.method_name(), sim.span().0);
+            summary.stop = SceneStop::Cancelled;
+            let outcome = MemberOutcome { status: MemberStatus::Cancelled, summary: Some(summary), error: None };
+            return MemberRun { data: Vec::new(), rows: 0, events: Vec::new(), outcome };
+        }
+        let width = sim.columns().len();
+        let rows = if keep == Keep::Final { 1 } else { sim.record_bound().map_or(0, |n| n.min(1 << 16) as usize) };
+        let mut sink = MemberSink { last_only: keep == Keep::Final, data: Vec::with_capacity(rows * width), rows: 0, events: Vec::new() };
+        let (summary, error) = match sim.run(&mut sink, cancel, &mut |_| {}) {
+            Ok(s) => (s, None),
+            Err(f) => (f.summary, Some(f.error)),
+        };
+        let status = match (&error, &summary.stop) {
+            (Some(_), _) => MemberStatus::Failed,
+            (None, SceneStop::Cancelled) => MemberStatus::Cancelled,
+            (None, SceneStop::Event(_)) => MemberStatus::Event,
+            (None, _) => MemberStatus::Finished,
+        };
+        let error = error.map(|e: RunError| format!("member {i}: {e}"));
+        MemberRun { data: sink.data, rows: sink.rows, events: sink.events, outcome: MemberOutcome { status, summary: Some(summary), error } }
     }
 }
 
@@ -392,22 +435,26 @@ pub fn run_ensemble(
         None => None,
     };
     let finished = AtomicUsize::new(0);
+    let layout = OnceLock::new();
     let work = || {
         (0..table.len())
             .into_par_iter()
-            .map(|i| {
-                let u = user.map(|f| f(i));
-                let r = run_member(base, table, i, opts.keep, u.as_ref(), cancel);
-                done(finished.fetch_add(1, Ordering::Relaxed) + 1);
-                r
-            })
+            .map_init(
+                || Worker::new(base, table, opts.keep),
+                |w, i| {
+                    let u = user.map(|f| f(i));
+                    let r = w.run(i, u.as_ref(), cancel, &layout);
+                    done(finished.fetch_add(1, Ordering::Relaxed) + 1);
+                    r
+                },
+            )
             .collect::<Vec<_>>()
     };
     let runs = match &pool {
         Some(p) => p.install(work),
         None => work(),
     };
-    let (columns, frame_shape) = runs.iter().find_map(|r| r.columns.clone()).unwrap_or_default();
+    let (columns, frame_shape) = layout.into_inner().unwrap_or_default();
     let total: usize = runs.iter().map(|r| r.data.len()).sum();
     let mut out = Ensemble { columns, frame_shape, data: Vec::with_capacity(total), offsets: Vec::with_capacity(runs.len() + 1), events: Vec::new(), members: Vec::with_capacity(runs.len()) };
     out.offsets.push(0);

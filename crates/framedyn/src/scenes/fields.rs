@@ -171,6 +171,13 @@ impl FieldPath {
         &self.path
     }
 
+    /// Whether the field belongs to the run's plan (`method.*`, `time.*`:
+    /// span, step size, tolerances) rather than to the model or its
+    /// initial state.
+    pub(crate) fn is_plan(&self) -> bool {
+        matches!(self.target, Target::MethodH | Target::MethodRtol | Target::MethodAtol | Target::T0 | Target::TEnd)
+    }
+
     /// Sets the field in `scene` to `value`. Fails (naming the path) for a
     /// non-finite value, for a component of a field the scene does not give
     /// or outside its length, and for a potential field of a term that does
@@ -221,9 +228,12 @@ impl FieldPath {
             Target::BodyInertia => scene.body.inertia = Some(value),
             Target::BodyJ(i, j) => matrix(&mut scene.body.j, *i, *j, "body.J")?,
             Target::Potential(f) => set_potential(&mut scene.potential, f, value, path)?,
-            Target::Coordinate(name) => {
-                init.coordinates.insert(name.clone(), value);
-            }
+            Target::Coordinate(name) => match init.coordinates.get_mut(name) {
+                Some(v) => *v = value,
+                None => {
+                    init.coordinates.insert(name.clone(), value);
+                }
+            },
             Target::Position(k) => vector(&mut init.position, *k, "initial.position")?,
             Target::Velocity(k) => vector(&mut init.velocity, *k, "initial.velocity")?,
             Target::Orientation(k) => vector(&mut init.orientation, *k, "initial.orientation")?,

@@ -45,6 +45,8 @@ impl<B: FrameBundle<N, E>, const N: usize, const E: usize> Init<B, N, E> {
     pub(crate) fn new(b: &B, i: &InitialSpec) -> Result<Self, SceneError> {
         let names = b.coordinate_names();
         let get = |name: &str| i.coordinate(name);
+        // The rate `NAME_dot` of a coordinate, found without building the key.
+        let rate = |name: &str| i.coordinates.iter().find(|(k, _)| k.strip_suffix("_dot") == Some(name)).map(|(_, v)| *v);
         // Keys that are neither a coordinate of this manifold nor its rate.
         for (key, value) in &i.coordinates {
             let own = names.iter().any(|n| key == n || key.strip_suffix("_dot") == Some(n));
@@ -62,7 +64,7 @@ impl<B: FrameBundle<N, E>, const N: usize, const E: usize> Init<B, N, E> {
                 ));
             }
         }
-        let any_chart = names.iter().any(|n| get(n).is_some() || get(&format!("{n}_dot")).is_some());
+        let any_chart = names.iter().any(|n| get(n).is_some() || rate(n).is_some());
         if any_chart && (i.position.is_some() || i.velocity.is_some()) {
             return Err(SceneError::invalid("initial.position", "(given with paper coordinates)", "give either the paper's coordinates or position/velocity, not both"));
         }
@@ -71,7 +73,7 @@ impl<B: FrameBundle<N, E>, const N: usize, const E: usize> Init<B, N, E> {
             let mut xd = SVector::<f64, N>::zeros();
             for (k, n) in names.iter().enumerate() {
                 x[k] = get(n).ok_or_else(|| SceneError::invalid(format!("initial.{n}"), "(missing)", format!("all of {} are needed", names.join(", "))))?;
-                xd[k] = get(&format!("{n}_dot")).unwrap_or(0.0);
+                xd[k] = rate(n).unwrap_or(0.0);
                 if !x[k].is_finite() {
                     return Err(SceneError::invalid(format!("initial.{n}"), x[k], "must be finite"));
                 }

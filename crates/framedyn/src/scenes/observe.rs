@@ -33,6 +33,11 @@ impl Sel {
     pub(crate) fn has(&self, q: Quantity) -> bool {
         self.0[Quantity::ALL.iter().position(|a| *a == q).unwrap_or(0)]
     }
+
+    /// `q` alone, if selected (`None` if not).
+    pub(crate) fn only(&self, q: Quantity) -> Option<Sel> {
+        self.has(q).then(|| Sel::new(&[q]))
+    }
 }
 
 /// Collects the values of a record and, on request, the column descriptions.

@@ -224,6 +224,16 @@ impl Scene {
     /// method can integrate it, and compiles the events.
     fn build_inner(&self, user: Option<UserFunctions>) -> Result<Simulation, SceneError> {
         let mut plan = self.plan()?;
+        let engine = self.planned_engine(user, &plan)?;
+        let columns = engine.columns(plan.sel);
+        let event_columns = engine.columns(Sel::ALL);
+        plan.events = self.compile_events(&event_columns)?;
+        Ok(Simulation { engine, plan, columns, event_columns, name: self.name.clone().unwrap_or_default(), stepping: None })
+    }
+
+    /// The engine of the manifold × body over the plan's span, checked to be
+    /// one the plan's method can integrate.
+    pub(crate) fn planned_engine(&self, user: Option<UserFunctions>, plan: &super::plan::Plan) -> Result<Box<dyn super::simulation::DynEngine>, SceneError> {
         let engine = self.build_engine(user, &(plan.t0, plan.t_end))?;
         if !engine.supports(plan.entry.needs) {
             let allowed: Vec<&str> = crate::method::METHODS.iter().filter(|m| engine.supports(m.needs)).map(|m| m.name).collect();
@@ -239,9 +249,6 @@ impl Scene {
                 ),
             ));
         }
-        let columns = engine.columns(plan.sel);
-        let event_columns = engine.columns(Sel::ALL);
-        plan.events = self.compile_events(&event_columns)?;
-        Ok(Simulation { engine, plan, columns, event_columns, name: self.name.clone().unwrap_or_default(), stepping: None })
+        Ok(engine)
     }
 }

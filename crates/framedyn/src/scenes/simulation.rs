@@ -13,6 +13,7 @@ use super::error::{RunError, SceneError};
 use super::observe::{Observe, Row, Sel};
 use super::plan::Plan;
 use super::sink::{Column, EventHit, RecordSink};
+use super::spec::Quantity;
 use super::summary::{nan_max, Progress, RunFailure, RunSummary, SceneStop};
 use crate::lie::LieGroup;
 use crate::method::registry::{Built, ChartMethod, Needs};
@@ -79,19 +80,40 @@ pub(crate) struct Records<'a, S: Observe> {
     mm_idx: &'a [usize],
     events: &'a [Event<[f64]>],
     buf: Vec<f64>,
+    /// The momentum maps of the current and of the first record.
+    mm: Vec<f64>,
     mm0: Vec<f64>,
+    /// For a sink that keeps only the last record ([`RecordSink::last_only`]):
+    /// the last saved state, recorded by [`Records::finish`].
+    last: Option<Option<(f64, S::State)>>,
 }
 
-impl<S: Observe> Records<'_, S> {
+impl<'a, S: Observe> Records<'a, S> {
+    fn new(sys: &'a S, sel: Sel, sink: &'a mut dyn RecordSink, summary: &'a mut RunSummary, mm_idx: &'a [usize], events: &'a [Event<[f64]>]) -> Self {
+        let last = sink.last_only().then_some(None);
+        Records { sys, sel, sink, summary, mm_idx, events, buf: Vec::new(), mm: Vec::new(), mm0: Vec::new(), last }
+    }
+
+    /// Notes the record whose momentum maps are in `self.mm`.
     fn note(&mut self, energy: f64, defect: f64) {
         let s = &mut *self.summary;
         if s.records == 0 {
-            self.mm0 = self.mm_idx.iter().map(|&j| self.buf[j]).collect();
+            self.mm0.clone_from(&self.mm);
         }
-        for (k, &j) in self.mm_idx.iter().enumerate() {
-            s.momentum_map_drift = nan_max(s.momentum_map_drift, (self.buf[j] - self.mm0[k]).abs());
+        for (m, m0) in self.mm.iter().zip(&self.mm0) {
+            s.momentum_map_drift = nan_max(s.momentum_map_drift, (m - m0).abs());
         }
         s.note(energy, defect);
+    }
+
+    /// Records the last saved state, if the sink keeps only that one.
+    fn finish(&mut self) -> Result<(), RunError> {
+        if let Some(Some((t, y))) = self.last.take() {
+            self.buf.clear();
+            self.sys.observe(self.sel, t, &y, &mut Row::values(&mut self.buf));
+            self.sink.record(&self.buf)?;
+        }
+        Ok(())
     }
 }
 
@@ -100,8 +122,23 @@ impl<S: Observe> solve::Sink<S::State> for Records<'_, S> {
 
     fn save(&mut self, t: f64, y: &S::State) -> Result<(), RunError> {
         self.buf.clear();
-        self.sys.observe(self.sel, t, y, &mut Row::values(&mut self.buf));
-        self.sink.record(&self.buf)?;
+        self.mm.clear();
+        match &mut self.last {
+            None => {
+                self.sys.observe(self.sel, t, y, &mut Row::values(&mut self.buf));
+                self.sink.record(&self.buf)?;
+                self.mm.extend(self.mm_idx.iter().map(|&j| self.buf[j]));
+            }
+            Some(last) => {
+                // The momentum maps only (after the time, the first column
+                // of every row); the whole record of the last state at the end.
+                *last = Some((t, *y));
+                if let Some(sel) = self.sel.only(Quantity::MomentumMap) {
+                    self.sys.observe(sel, t, y, &mut Row::values(&mut self.buf));
+                    self.mm.extend_from_slice(&self.buf[1..]);
+                }
+            }
+        }
         let (energy, defect) = (self.sys.energy(y), self.sys.defect(y));
         self.note(energy, defect);
         Ok(())
@@ -274,16 +311,7 @@ impl<S: Observe> DynEngine for Engine<S> {
             }
         };
         let mut control = Control { cancel: Some(ctx.cancel), progress: Some(&mut report) };
-        let mut records = Records {
-            sys,
-            sel: plan.sel,
-            sink: &mut *ctx.sink,
-            summary: &mut ctx.summary,
-            mm_idx: &ctx.mm_idx,
-            events: &plan.events,
-            buf: Vec::new(),
-            mm0: Vec::new(),
-        };
+        let mut records = Records::new(sys, plan.sel, &mut *ctx.sink, &mut ctx.summary, &ctx.mm_idx, &plan.events);
         let mut events = RecordEvents { sys, events: &plan.events, full: Vec::new() };
         let (stop, stats) = match &plan.method {
             Built::Group(m) => {
@@ -306,6 +334,10 @@ impl<S: Observe> DynEngine for Engine<S> {
                 }
                 (out.stop, out.stats)
             }
+        };
+        let stop = match (stop, records.finish()) {
+            (Ok(_), Err(e)) => Err(e),
+            (stop, _) => stop,
         };
         let s = &mut ctx.summary;
         s.steps = stats.accepted as u64;
@@ -356,7 +388,6 @@ impl Simulation {
     /// dimension of the embedding, the shape of the `frame` group of a
     /// record (vectors in order, each with its `E` components).
     pub fn frame_shape(&self) -> (usize, usize) {
-        use super::spec::Quantity;
         let count = |q: Quantity| self.event_columns.iter().filter(|c| c.group == Some(q)).count();
         let e = count(Quantity::Position);
         (if e == 0 { 0 } else { count(Quantity::Frame) / e }, e)
@@ -451,7 +482,7 @@ impl Simulation {
             summary.stop = SceneStop::OutputError(e.to_string());
             return Err(RunFailure { error: RunError::Io(e), summary });
         }
-        let mm_idx = self.columns.iter().enumerate().filter(|(_, c)| c.group == Some(super::spec::Quantity::MomentumMap)).map(|(j, _)| j).collect();
+        let mm_idx = self.columns.iter().enumerate().filter(|(_, c)| c.group == Some(Quantity::MomentumMap)).map(|(j, _)| j).collect();
         let mut ctx = Ctx { sink, cancel, progress, summary, last_progress: started, mm_idx };
         let result = self.engine.run(&self.plan, &mut ctx);
         let (t0, t_end, t) = (self.plan.t0, self.plan.t_end, self.engine.t());
@@ -559,6 +590,30 @@ impl Simulation {
     pub fn reset(&mut self) {
         self.engine.reset();
         self.stepping = None;
+    }
+
+    /// Rebuilds the model and its initial state from `scene`, a scene that
+    /// differs from the one this simulation was built from in numeric
+    /// fields only ([`FieldPath`](super::FieldPath)s: the manifold, body and
+    /// potential kinds, the method's name, the output's quantities and the
+    /// events are the same). The columns and compiled events are kept; the
+    /// plan (span, step size, tolerances, output times) is rebuilt only if
+    /// `replan`, i.e. if a `method.*` or `time.*` field may differ. The
+    /// simulation then runs exactly as `scene.build()` would (the same
+    /// model, state and plan, so the same records bit for bit) without
+    /// recomputing its columns and events: the per-member path of
+    /// [`run_ensemble`](super::run_ensemble). On an error (the same as
+    /// [`Scene::build`](super::Scene::build)'s) the simulation is unchanged.
+    pub(crate) fn rebuild(&mut self, scene: &super::Scene, user: Option<super::UserFunctions>, replan: bool) -> Result<(), SceneError> {
+        let plan = if replan { Some(scene.plan().map_err(|e| scene.locate(e))?) } else { None };
+        let engine = scene.planned_engine(user, plan.as_ref().unwrap_or(&self.plan)).map_err(|e| scene.locate(e))?;
+        if let Some(mut plan) = plan {
+            plan.events = std::mem::take(&mut self.plan.events);
+            self.plan = plan;
+        }
+        self.engine = engine;
+        self.stepping = None;
+        Ok(())
     }
 
     /// The time span `(t₀, t_end)`.

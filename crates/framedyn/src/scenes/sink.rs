@@ -29,6 +29,13 @@ pub trait RecordSink {
         let _ = hit;
         Ok(())
     }
+    /// Whether the sink keeps only the last record (default: false). A run
+    /// then still notes every record's energy, defect and momentum maps in
+    /// its summary, but builds and passes only the last record (the same
+    /// values), once the run has stopped.
+    fn last_only(&self) -> bool {
+        false
+    }
 }
 
 /// A located event.
