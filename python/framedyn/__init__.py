@@ -166,10 +166,11 @@ def _events(events: Optional[Sequence[Union[Event, EventFunction]]]) -> Optional
     return out
 
 
-def _warn_quality(found: Optional[Sequence[str]], where: str) -> None:
-    """Raises a :class:`QualityWarning` for a run's quality findings."""
+def _warn_quality(found: Optional[Sequence[str]], where: str, stacklevel: int = 3) -> None:
+    """Raises a :class:`QualityWarning` for a run's quality findings
+    (``stacklevel``: as for :func:`warnings.warn`, counted from the caller)."""
     if found:
-        warnings.warn(QualityWarning(f"{where}: " + "; ".join(found)), stacklevel=3)
+        warnings.warn(QualityWarning(f"{where}: " + "; ".join(found)), stacklevel=stacklevel)
 
 
 def solve(
@@ -330,6 +331,14 @@ def _solve_table(
     names, cols = table_columns(table)
     raw = _framedyn.run_table(scene._native, names, cols, mode, samples, threads, user_potential, user_gradient, oversubscribe)
     out = EnsembleSolution(raw)
+    flagged = out.warnings.flagged
+    if flagged.size:
+        first = int(flagged[0])
+        _warn_quality(
+            [f"{flagged.size} of {len(out)} members failed the quality check (out.warnings, out.warnings.flagged); member {first}: " + "; ".join(out.warnings[first])],
+            "solve_batch",
+            stacklevel=4,
+        )
     if on_error == "raise":
         bad = np.flatnonzero(out.status == "invalid")
         if bad.size:

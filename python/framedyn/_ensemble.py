@@ -4,14 +4,15 @@ arrays with the member as the leading dimension)."""
 
 from __future__ import annotations
 
-from typing import Any, Dict, List, Mapping, Optional, Tuple
+import collections.abc
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Tuple, overload
 
 import numpy as np
 
 from ._errors import InvalidInputError
 from ._solution import EventRecords, Solution
 
-__all__ = ["EnsembleSolution", "table_columns"]
+__all__ = ["EnsembleSolution", "MemberWarnings", "table_columns"]
 
 
 def table_columns(table: Any) -> Tuple[List[str], List[np.ndarray]]:
@@ -46,6 +47,54 @@ def table_columns(table: Any) -> Tuple[List[str], List[np.ndarray]]:
         # Dask workers, may be unaligned).
         cols.append(np.require(a, dtype=np.float64, requirements=["C", "A"]))
     return names, cols
+
+
+class MemberWarnings(collections.abc.Sequence):  # type: ignore[type-arg]
+    """The quality warnings of every member of an ensemble, kept only for
+    the members that have any: ``w[i]`` is member ``i``'s findings (a list
+    of str, empty when its run is sound), as ``EnsembleSolution.warnings[i]``;
+    ``flagged`` the indices of the members with warnings; ``list(w)`` the
+    list of lists ``solve_batch`` gives."""
+
+    __slots__ = {"flagged": "Indices of the members with warnings, ascending ``(k,)`` int64.", "_n": "Members.", "_texts": "Member index → findings."}
+
+    def __init__(self, n: int, flagged: np.ndarray, texts: List[List[str]]) -> None:
+        order = np.argsort(flagged, kind="stable")
+        self.flagged: np.ndarray = np.asarray(flagged, dtype=np.int64)[order]
+        self._n = int(n)
+        self._texts: Dict[int, List[str]] = {int(self.flagged[k]): list(texts[int(j)]) for k, j in enumerate(order)}
+
+    def __len__(self) -> int:
+        return self._n
+
+    @overload
+    def __getitem__(self, i: int) -> List[str]: ...
+
+    @overload
+    def __getitem__(self, i: slice) -> List[List[str]]: ...
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(self._n))]
+        if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not -self._n <= int(i) < self._n:
+            raise IndexError(f"member index {i!r} out of range for {self._n} members")
+        return list(self._texts.get(int(i) % self._n, []))
+
+    def __iter__(self) -> Iterator[List[str]]:
+        for i in range(self._n):
+            yield list(self._texts.get(i, []))
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, MemberWarnings):
+            return self._n == other._n and self._texts == other._texts
+        if isinstance(other, collections.abc.Sequence) and not isinstance(other, (str, bytes)):
+            return len(other) == self._n and all(list(a) == b for a, b in zip(other, self))
+        return NotImplemented
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        return f"MemberWarnings({len(self.flagged)} of {self._n} members with warnings)"
 
 
 class EnsembleSolution:
@@ -88,7 +137,7 @@ class EnsembleSolution:
         "status_names": "The statuses the core reports, in the order of their codes.",
         "errors": "Per member: the error message, or None.",
         "exceptions": "Per member: the exception its user potential raised, or None.",
-        "warnings": "Per member: the quality check's findings (list of str, empty when the run is sound).",
+        "warnings": "Per member: the quality check's findings (:class:`MemberWarnings`: ``warnings[i]`` is a list of str, empty when the run is sound).",
         "stats": "Per-member run statistics, a dict of ``(N,)`` arrays.",
         "method": "The method's name.",
         "events": "The located events of all members (:class:`EventRecords`).",
@@ -107,7 +156,7 @@ class EnsembleSolution:
         self.status: np.ndarray = np.array(self.status_names)[np.asarray(raw["status"], dtype=np.intp)]
         self.errors: List[Optional[str]] = list(raw["errors"])
         self.exceptions: List[Optional[BaseException]] = list(raw["exceptions"])
-        self.warnings: List[List[str]] = [list(w) for w in raw["warnings"]]
+        self.warnings = MemberWarnings(len(self.offsets) - 1, np.asarray(raw["warned"], dtype=np.int64), raw["warned_texts"])
         self.stats: Dict[str, np.ndarray] = dict(raw["summary"])
         self.method: Optional[str] = raw["method"]
         ev = raw["events"]

@@ -36,12 +36,11 @@ or an ``s3://`` / ``gs://`` URL with the matching fsspec package).
 
 from __future__ import annotations
 
-import collections.abc
-from typing import Any, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Union, overload
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
-from ._ensemble import EnsembleSolution, table_columns
+from ._ensemble import EnsembleSolution, MemberWarnings, table_columns
 from ._errors import MAX_SAMPLES, MAX_THREADS, InvalidInputError, check_int
 from ._scene import Scene, as_scenes
 from ._solution import BatchSolution, Solution
@@ -138,9 +137,8 @@ def _table_chunk(base: Any, names: List[str], cols: List[Any], keep: str, sample
     }
     # The quality warnings of the members that have any (most have none):
     # their indices in the chunk and their findings.
-    flagged = [i for i, w in enumerate(out.warnings) if w]
-    part["warned"] = np.asarray(flagged, dtype=np.int64)
-    part["warned_texts"] = [out.warnings[i] for i in flagged]
+    part["warned"] = out.warnings.flagged
+    part["warned_texts"] = [out.warnings[int(i)] for i in out.warnings.flagged]
     if store is None:
         part.update(flat=out.flat, offsets=out.offsets, events=out.events, event_member=out.event_member)
         return part
@@ -154,54 +152,6 @@ def _table_chunk(base: Any, names: List[str], cols: List[Any], keep: str, sample
             block[i, : len(rows)] = rows
         g["data"][start : start + n] = block
     return part
-
-
-class MemberWarnings(collections.abc.Sequence):  # type: ignore[type-arg]
-    """The quality warnings of every member of an ensemble, kept only for
-    the members that have any: ``w[i]`` is member ``i``'s findings (a list
-    of str, empty when its run is sound), as ``EnsembleSolution.warnings[i]``;
-    ``flagged`` the indices of the members with warnings; ``list(w)`` the
-    list of lists ``solve_batch`` gives."""
-
-    __slots__ = {"flagged": "Indices of the members with warnings, ascending ``(k,)`` int64.", "_n": "Members.", "_texts": "Member index → findings."}
-
-    def __init__(self, n: int, flagged: np.ndarray, texts: List[List[str]]) -> None:
-        order = np.argsort(flagged, kind="stable")
-        self.flagged: np.ndarray = np.asarray(flagged, dtype=np.int64)[order]
-        self._n = int(n)
-        self._texts: Dict[int, List[str]] = {int(self.flagged[k]): list(texts[int(j)]) for k, j in enumerate(order)}
-
-    def __len__(self) -> int:
-        return self._n
-
-    @overload
-    def __getitem__(self, i: int) -> List[str]: ...
-
-    @overload
-    def __getitem__(self, i: slice) -> List[List[str]]: ...
-
-    def __getitem__(self, i: Any) -> Any:
-        if isinstance(i, slice):
-            return [self[k] for k in range(*i.indices(self._n))]
-        if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not -self._n <= int(i) < self._n:
-            raise IndexError(f"member index {i!r} out of range for {self._n} members")
-        return list(self._texts.get(int(i) % self._n, []))
-
-    def __iter__(self) -> Iterator[List[str]]:
-        for i in range(self._n):
-            yield list(self._texts.get(i, []))
-
-    def __eq__(self, other: object) -> bool:
-        if isinstance(other, MemberWarnings):
-            return self._n == other._n and self._texts == other._texts
-        if isinstance(other, collections.abc.Sequence) and not isinstance(other, (str, bytes)):
-            return len(other) == self._n and all(list(a) == b for a, b in zip(other, self))
-        return NotImplemented
-
-    __hash__ = None  # type: ignore[assignment]
-
-    def __repr__(self) -> str:
-        return f"MemberWarnings({len(self.flagged)} of {self._n} members with warnings)"
 
 
 class StoredEnsemble:
@@ -343,7 +293,7 @@ def solve_table(
         "frame_shape": next((p["frame_shape"] for p in parts if p["columns"]), (0, 0)),
         "status_names": names_of_status,
         "status": np.array([codes[str(s)] for s in status], dtype=np.uint8),
-        "errors": errors, "exceptions": [None] * n, "warnings": list(warned), "summary": stats, "method": parts[0]["method"] if parts else None,
+        "errors": errors, "exceptions": [None] * n, "warned": warned.flagged, "warned_texts": [warned[int(i)] for i in warned.flagged], "summary": stats, "method": parts[0]["method"] if parts else None,
         "events": {
             "member": np.concatenate([p["event_member"] + k for p, k in zip(parts, starts)]) if parts else np.empty(0, np.int64),
             "index": np.concatenate([e.index for e in ev_rows]) if parts else np.empty(0, np.int64),

@@ -349,8 +349,9 @@ def test_quality_warning_on_a_crude_run():
     with pytest.warns(fd.QualityWarning, match="energy drift .* exceeds quality.energy_drift"):
         sol = fd.solve(d)
     assert len(sol) == 21 and sol.stats["warnings"] and "energy drift" in sol.stats["warnings"][0]
-    out = fd.solve_batch(fd.Scene.from_dict(d), {"initial.r": np.array([0.6, 0.61])}, keep="final")
-    assert all(w and "energy drift" in w[0] for w in out.warnings)
+    with pytest.warns(fd.QualityWarning, match="solve_batch: 2 of 2 members failed the quality check .* member 0: the energy drift"):
+        out = fd.solve_batch(fd.Scene.from_dict(d), {"initial.r": np.array([0.6, 0.61])}, keep="final")
+    assert all(w and "energy drift" in w[0] for w in out.warnings) and out.warnings.flagged.tolist() == [0, 1]
     d["quality"] = {"energy_drift": 1.0}
     with warnings.catch_warnings():
         warnings.simplefilter("error", fd.QualityWarning)

@@ -59,7 +59,8 @@ pub fn run_table<'py>(
     let table = Table::new(cols).map_err(|e| scene_err(py, &e))?;
     let user = check_user(py, user_potential, user_gradient)?;
     let n = table.len();
-    let slots: Vec<ErrorSlot> = (0..n).map(|_| Arc::new(Mutex::new(None))).collect();
+    // One error slot per member, only when a user potential can raise.
+    let slots: Vec<ErrorSlot> = if user.is_some() { (0..n).map(|_| Arc::new(Mutex::new(None))).collect() } else { Vec::new() };
     let opts = EnsembleOptions { keep, threads: if user.is_some() { Some(1) } else { threads }, oversubscribe };
     let base = scene.inner.clone();
     let factory = user.as_ref().map(|u| {
@@ -78,7 +79,7 @@ pub fn run_table<'py>(
         Ok(Err(e)) => return Err(scene_err(py, &e)),
         Ok(Ok(out)) => out,
     };
-    let exceptions: Vec<Option<Py<PyAny>>> = slots.iter().map(|s| lock(s).take().map(|e| e.into_value(py).into_any())).collect();
+    let exceptions: Vec<Option<Py<PyAny>>> = if slots.is_empty() { (0..n).map(|_| None).collect() } else { slots.iter().map(|s| lock(s).take().map(|e| e.into_value(py).into_any())).collect() };
     to_py(py, out, exceptions)
 }
 
@@ -104,9 +105,12 @@ fn to_py<'py>(py: Python<'py>, out: Ensemble, exceptions: Vec<Option<Py<PyAny>>>
         let v: Vec<f64> = out.members.iter().map(|m| m.summary.as_ref().map_or(f64::NAN, |s| s.numbers()[k])).collect();
         sum.set_item(name, PyArray1::from_vec(py, v))?;
     }
-    // Quality warnings per member (empty when none).
-    let warnings: Vec<Vec<String>> = out.members.iter().map(|m| m.summary.as_ref().map_or_else(Vec::new, |s| s.warning_texts())).collect();
-    d.set_item("warnings", warnings)?;
+    // Quality warnings of the members that have any (most have none): their
+    // indices and findings, not one Python list per member.
+    let warned: Vec<(i64, Vec<String>)> =
+        out.members.iter().enumerate().filter_map(|(i, m)| m.summary.as_ref().filter(|s| !s.warnings.is_empty()).map(|s| (i as i64, s.warning_texts()))).collect();
+    d.set_item("warned", PyArray1::from_vec(py, warned.iter().map(|(i, _)| *i).collect()))?;
+    d.set_item("warned_texts", warned.into_iter().map(|(_, w)| w).collect::<Vec<_>>())?;
     d.set_item("method", out.members.iter().find_map(|m| m.summary.as_ref().map(|s| s.method)))?;
     d.set_item("summary", sum)?;
     let ev = PyDict::new(py);

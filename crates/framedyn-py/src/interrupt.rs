@@ -4,6 +4,7 @@
 //! second however the work is split across threads.
 
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{self, RecvTimeoutError};
 use std::time::Duration;
 
 use pyo3::prelude::*;
@@ -18,10 +19,22 @@ const SIGNAL_POLL: Duration = Duration::from_millis(10);
 pub fn interruptible<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> T + Send) -> (Result<T, String>, Option<PyErr>) {
     let cancel = AtomicBool::new(false);
     let mut interrupt: Option<PyErr> = None;
+    // The worker holds the sender until it returns (or unwinds): the waiting
+    // thread wakes as soon as it is dropped, not at the next poll, so a
+    // short call does not wait out a polling interval.
+    let (done, finished) = mpsc::channel::<()>();
     let result = std::thread::scope(|s| {
-        let worker = s.spawn(|| crate::errors::guard(|| work(&cancel)));
-        while !worker.is_finished() {
-            py.detach(|| std::thread::sleep(SIGNAL_POLL));
+        let worker = s.spawn(|| {
+            let _done = done;
+            crate::errors::guard(|| work(&cancel))
+        });
+        let mut finished = finished;
+        loop {
+            let (waited, rx) = py.detach(move || (finished.recv_timeout(SIGNAL_POLL), finished));
+            finished = rx;
+            if !matches!(waited, Err(RecvTimeoutError::Timeout)) {
+                break;
+            }
             if interrupt.is_none() {
                 if let Err(e) = py.check_signals() {
                     interrupt = Some(e);
