@@ -323,3 +323,50 @@ fn rebuilt_members_equal_single_runs_on_every_embedded_scene() {
     }
     assert!(checked >= 6 * scenes.len(), "only {checked} members ran");
 }
+
+/// `run_ensemble_blocks` hands over consecutive blocks in order; put back
+/// together they are `run_ensemble`'s result (records, offsets, statuses,
+/// summaries, messages naming the table's member index), and `Break` stops
+/// before the next block.
+#[test]
+fn blocks_put_together_are_the_whole_ensemble() {
+    use framedyn::scenes::run_ensemble_blocks;
+    use std::ops::ControlFlow;
+    let inertia = vec![0.2, 0.25, 0.3, -1.0, 0.35, 0.4, 0.45];
+    let r: Vec<f64> = (0..7).map(|i| 0.4 + 0.1 * i as f64).collect();
+    let table = Table::new([("body.inertia", inertia), ("initial.r", r)]).unwrap();
+    let opts = EnsembleOptions { keep: Keep::All, threads: Some(2), oversubscribe: false };
+    let whole = run_ensemble(&base(), &table, &opts, None, &AtomicBool::new(false), &|_| {}).unwrap();
+    let mut firsts = Vec::new();
+    let (mut data, mut offsets, mut members) = (Vec::new(), vec![0usize], Vec::new());
+    run_ensemble_blocks(&base(), &table, &opts, None, &AtomicBool::new(false), &|_| {}, 3, &mut |first, b| {
+        firsts.push(first);
+        data.extend_from_slice(&b.data);
+        let o = *offsets.last().unwrap();
+        offsets.extend(b.offsets[1..].iter().map(|k| o + k));
+        members.extend(b.members);
+        ControlFlow::Continue(())
+    })
+    .unwrap();
+    assert_eq!(firsts, [0, 3, 6]);
+    assert_eq!((bits(&data), &offsets), (bits(&whole.data), &whole.offsets));
+    // Everything but the wall-clock time of each run.
+    let timeless = |ms: &[framedyn::scenes::MemberOutcome]| -> Vec<framedyn::scenes::MemberOutcome> {
+        ms.iter().cloned().map(|mut m| {
+            if let Some(s) = m.summary.as_mut() {
+                s.wall_time = Default::default();
+            }
+            m
+        }).collect()
+    };
+    assert_eq!(timeless(&members), timeless(&whole.members));
+    let e = members[3].error.as_deref().unwrap();
+    assert!(e.contains("member 3") && e.contains("body.inertia"), "{e}");
+    let mut seen = 0;
+    run_ensemble_blocks(&base(), &table, &opts, None, &AtomicBool::new(false), &|_| {}, 2, &mut |_, b| {
+        seen += b.len();
+        ControlFlow::Break(())
+    })
+    .unwrap();
+    assert_eq!(seen, 2);
+}

@@ -422,8 +422,10 @@ pub fn run_batch<'py>(
     let user = check_user(py, user_potential, user_gradient)?;
     let scenes: Vec<Scene> = scenes.iter().map(|s| s.inner.clone()).collect();
     let slots: Vec<ErrorSlot> = scenes.iter().map(|_| Arc::new(Mutex::new(None))).collect();
-    let threads = if user.is_some() { Some(1) } else { threads };
+    // With a user potential the scenes run one after another on the
+    // interruptible call's worker thread (no pool: see `interruptible`).
     let pool = match threads {
+        Some(_) if user.is_some() => None,
         Some(n) => Some(
             // Never more workers than members, nor than cores unless asked.
             rayon::ThreadPoolBuilder::new()
@@ -434,17 +436,13 @@ pub fn run_batch<'py>(
         None => None,
     };
     let (outs, interrupt) = interruptible(py, |cancel| {
-        let work = || {
-            scenes
-                .par_iter()
-                .zip(slots.par_iter())
-                .map(|(s, slot)| {
-                    let f = user.as_ref().map(|u| user_functions(u, slot));
-                    guard(|| run_scene(s, f.as_ref(), None, cancel, &mut |_| {}))
-                })
-                .collect::<Vec<Result<Result<RunOutput, SceneError>, String>>>()
+        let one = |(s, slot): (&Scene, &ErrorSlot)| {
+            let f = user.as_ref().map(|u| user_functions(u, slot));
+            guard(|| run_scene(s, f.as_ref(), None, cancel, &mut |_| {}))
         };
+        let work = || scenes.par_iter().zip(slots.par_iter()).map(one).collect::<Vec<Result<Result<RunOutput, SceneError>, String>>>();
         match &pool {
+            _ if user.is_some() => scenes.iter().zip(&slots).map(one).collect(),
             Some(p) => p.install(work),
             None => work(),
         }

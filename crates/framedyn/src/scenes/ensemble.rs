@@ -31,6 +31,7 @@
 //! ```
 
 use std::io;
+use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::OnceLock;
 
@@ -417,15 +418,49 @@ pub fn run_ensemble(
     cancel: &AtomicBool,
     done: &(dyn Fn(usize) + Sync),
 ) -> Result<Ensemble, SceneError> {
+    let mut whole = None;
+    run_ensemble_blocks(base, table, opts, user, cancel, done, table.len(), &mut |_, block| {
+        whole = Some(block);
+        ControlFlow::Continue(())
+    })?;
+    whole.ok_or_else(|| SceneError::invalid("table", "(0 members)", "at least one member"))
+}
+
+/// [`run_ensemble`] in blocks of at most `block` consecutive members, for
+/// callers that stream the records instead of keeping them all (the
+/// command line's `sweep`): `out(first, ensemble)` receives each block as
+/// soon as all its members are done, in order — member `k` of the block
+/// is member `first + k` of the table, and messages and event member
+/// indices name the table's member. Members of one block run in parallel;
+/// the blocks one after another. `out` returning `Break` stops before the
+/// next block. Fails only for bad options.
+#[allow(clippy::too_many_arguments)]
+pub fn run_ensemble_blocks(
+    base: &Scene,
+    table: &Table,
+    opts: &EnsembleOptions,
+    user: Option<&(dyn Fn(usize) -> UserFunctions + Sync)>,
+    cancel: &AtomicBool,
+    done: &(dyn Fn(usize) + Sync),
+    block: usize,
+    out: &mut dyn FnMut(usize, Ensemble) -> ControlFlow<()>,
+) -> Result<(), SceneError> {
     if let Keep::Samples(k) = opts.keep {
         if k < 2 {
             return Err(SceneError::invalid("samples", k, "must be ≥ 2 (both ends of the span)"));
         }
     }
+    if block == 0 {
+        return Err(SceneError::invalid("block", 0, "must be ≥ 1 member"));
+    }
+    // One worker thread: the members run on the calling thread, one after
+    // another (no pool; a user potential that calls back into an
+    // interpreter is called from the thread that ran the ensemble).
     let pool = match opts.threads {
         Some(n) if n == 0 || n > EnsembleOptions::MAX_THREADS => {
             return Err(SceneError::invalid("threads", n, format!("must be between 1 and {}", EnsembleOptions::MAX_THREADS)));
         }
+        Some(n) if worker_threads(n, table.len(), opts.oversubscribe) == 1 => None,
         Some(n) => Some(
             rayon::ThreadPoolBuilder::new()
                 .num_threads(worker_threads(n, table.len(), opts.oversubscribe))
@@ -434,35 +469,40 @@ pub fn run_ensemble(
         ),
         None => None,
     };
+    let serial = pool.is_none() && opts.threads.is_some();
     let finished = AtomicUsize::new(0);
-    let layout = OnceLock::new();
-    let work = || {
-        (0..table.len())
-            .into_par_iter()
-            .map_init(
-                || Worker::new(base, table, opts.keep),
-                |w, i| {
-                    let u = user.map(|f| f(i));
-                    let r = w.run(i, u.as_ref(), cancel, &layout);
-                    done(finished.fetch_add(1, Ordering::Relaxed) + 1);
-                    r
-                },
-            )
-            .collect::<Vec<_>>()
-    };
-    let runs = match &pool {
-        Some(p) => p.install(work),
-        None => work(),
-    };
-    let (columns, frame_shape) = layout.into_inner().unwrap_or_default();
-    let total: usize = runs.iter().map(|r| r.data.len()).sum();
-    let mut out = Ensemble { columns, frame_shape, data: Vec::with_capacity(total), offsets: Vec::with_capacity(runs.len() + 1), events: Vec::new(), members: Vec::with_capacity(runs.len()) };
-    out.offsets.push(0);
-    for (i, r) in runs.into_iter().enumerate() {
-        out.data.extend_from_slice(&r.data);
-        out.offsets.push(out.offsets[i] + r.rows);
-        out.events.extend(r.events.into_iter().map(|e| (i, e)));
-        out.members.push(r.outcome);
+    let mut own = Worker::new(base, table, opts.keep);
+    for first in (0..table.len()).step_by(block) {
+        let members = first..(first + block).min(table.len());
+        let layout = OnceLock::new();
+        let one = |w: &mut Worker, i: usize| {
+            let u = user.map(|f| f(i));
+            let r = w.run(i, u.as_ref(), cancel, &layout);
+            done(finished.fetch_add(1, Ordering::Relaxed) + 1);
+            r
+        };
+        let runs: Vec<MemberRun> = if serial {
+            members.map(|i| one(&mut own, i)).collect()
+        } else {
+            let work = || members.clone().into_par_iter().map_init(|| Worker::new(base, table, opts.keep), one).collect::<Vec<_>>();
+            match &pool {
+                Some(p) => p.install(work),
+                None => work(),
+            }
+        };
+        let (columns, frame_shape) = layout.into_inner().unwrap_or_default();
+        let total: usize = runs.iter().map(|r| r.data.len()).sum();
+        let mut ens = Ensemble { columns, frame_shape, data: Vec::with_capacity(total), offsets: Vec::with_capacity(runs.len() + 1), events: Vec::new(), members: Vec::with_capacity(runs.len()) };
+        ens.offsets.push(0);
+        for (k, r) in runs.into_iter().enumerate() {
+            ens.data.extend_from_slice(&r.data);
+            ens.offsets.push(ens.offsets[k] + r.rows);
+            ens.events.extend(r.events.into_iter().map(|e| (first + k, e)));
+            ens.members.push(r.outcome);
+        }
+        if out(first, ens).is_break() {
+            break;
+        }
     }
-    Ok(out)
+    Ok(())
 }

@@ -138,7 +138,7 @@ pub mod spec;
 mod summary;
 
 pub use error::{Location, RunError, SceneError};
-pub use ensemble::{run_ensemble, worker_threads, Ensemble, EnsembleOptions, Keep, MemberOutcome, MemberStatus, Table};
+pub use ensemble::{run_ensemble, run_ensemble_blocks, worker_threads, Ensemble, EnsembleOptions, Keep, MemberOutcome, MemberStatus, Table};
 pub use examples::{example, DEFAULT_SCENE, EXAMPLES};
 pub use fields::FieldPath;
 pub use plan::DEFAULT_SCENE_MAX_STEPS;
