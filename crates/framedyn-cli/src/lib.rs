@@ -21,7 +21,7 @@
 //! `sweep` runs one member per row of the table (columns named by dotted
 //! scene fields: `initial.r`, `potential.kappa`, `body.J.0.1`, …) in
 //! parallel and writes every member's records, status and summary to one
-//! `.npz` (layout in [`sweep::write_ensemble`]); a member that is invalid or
+//! `.npz`, streamed while the members run (layout in [`sweep::EnsembleWriter`]); a member that is invalid or
 //! fails is recorded as such and does not stop the others (exit code 0;
 //! the summary counts them).
 //!
@@ -324,28 +324,59 @@ fn run_sweep(
     });
     let opts = scenes::EnsembleOptions { keep, threads, oversubscribe };
     let started = Instant::now();
-    let out = scenes::run_ensemble(&scene, &table, &opts, None, cancel, &|k| {
-        if let Some(b) = &bar {
-            b.set_position(k as u64);
-        }
-    })
+    // Streamed: each block of members goes to the output's raw temporary
+    // file as soon as it is done (sweep::EnsembleWriter).
+    let mut writer = sweep::EnsembleWriter::create(output).map_err(|e| (EXIT_IO, format!("cannot write the output {}: {e} (no output written)", output.display())))?;
+    let mut write_error = None;
+    scenes::run_ensemble_blocks(
+        &scene,
+        &table,
+        &opts,
+        None,
+        cancel,
+        &|k| {
+            if let Some(b) = &bar {
+                b.set_position(k as u64);
+            }
+        },
+        sweep::block_size(&scene, keep),
+        &mut |_, block| match writer.push(&block) {
+            Ok(()) => std::ops::ControlFlow::Continue(()),
+            Err(e) => {
+                write_error = Some(e);
+                std::ops::ControlFlow::Break(())
+            }
+        },
+    )
     .map_err(|e| (EXIT_INVALID, format!("{origin}: {e}")))?;
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
+    if let Some(e) = write_error {
+        return Err((EXIT_IO, format!("writing {}: {e} (no output written)", output.display())));
+    }
     let interrupted = cancel.load(Ordering::SeqCst);
-    let written = sweep::write_ensemble(output, &table, &out, interrupted)
-        .map_err(|e| (EXIT_IO, format!("writing {}: {e} (no output written)", output.display())))?;
+    let members = writer.members();
+    let report = [
+        format!("scene:           {origin}"),
+        format!("members:         {} ({})", members.len(), sweep::status_counts(members)),
+        match members.iter().filter(|m| m.summary.as_ref().is_some_and(|s| !s.warnings.is_empty())).count() {
+            0 => "quality:         ok".to_string(),
+            k => format!("quality:         {k} members with warnings (`warnings` in the output)"),
+        },
+        match members.iter().enumerate().find(|(_, m)| m.error.is_some()) {
+            Some((i, m)) => format!("first failure:   member {i}: {}", m.error.as_deref().unwrap_or("")),
+            None => String::new(),
+        },
+    ];
+    let records = writer.records();
+    let written = writer.finish(&table, interrupted).map_err(|e| (EXIT_IO, format!("writing {}: {e} (no output written)", output.display())))?;
     if !quiet {
-        println!("scene:           {origin}");
-        println!("members:         {} ({})", out.len(), sweep::status_counts(&out));
-        let flagged = out.members.iter().filter(|m| m.summary.as_ref().is_some_and(|s| !s.warnings.is_empty())).count();
-        println!("quality:         {}", if flagged == 0 { "ok".to_string() } else { format!("{flagged} members with warnings (`warnings` in the output)") });
-        if let Some((i, m)) = out.members.iter().enumerate().find(|(_, m)| m.error.is_some()) {
-            println!("first failure:   member {i}: {}", m.error.as_deref().unwrap_or(""));
+        for line in report.iter().filter(|l| !l.is_empty()) {
+            println!("{line}");
         }
         println!("wall time:       {:.3} s", started.elapsed().as_secs_f64());
-        println!("output:          {} ({} records{})", written.display(), out.offsets.last().copied().unwrap_or(0), if interrupted { ", partial" } else { "" });
+        println!("output:          {} ({records} records{})", written.display(), if interrupted { ", partial" } else { "" });
     }
     if interrupted {
         let (code, name) = signals::interruption();

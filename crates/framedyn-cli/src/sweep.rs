@@ -10,7 +10,7 @@ use std::fs::{self, File};
 use std::io::{self, BufRead, BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
-use framedyn::scenes::{Ensemble, Keep, MemberStatus, RunSummary, Scene, Table};
+use framedyn::scenes::{Column, Ensemble, Keep, MemberOutcome, MemberStatus, RunSummary, Scene, Table};
 
 use crate::output::{npy_header, npy_strings};
 use crate::space::OutputEstimate;
@@ -155,8 +155,24 @@ fn npy_i64(values: &[i64]) -> Vec<u8> {
     out
 }
 
-/// Writes the ensemble atomically (a temporary file renamed onto `target`)
-/// as an `.npz` with: `data` (all records, `(total, columns)`), `offsets`
+/// Writes the ensemble atomically (a temporary file renamed onto `target`);
+/// the layout is [`EnsembleWriter`]'s. Returns the path written.
+pub fn write_ensemble(target: &Path, table: &Table, out: &Ensemble, partial: bool) -> io::Result<PathBuf> {
+    let mut w = EnsembleWriter::create(target)?;
+    w.push(out)?;
+    w.finish(table, partial)
+}
+
+/// A sweep's `.npz`, written while the members run
+/// ([`run_ensemble_blocks`](framedyn::scenes::run_ensemble_blocks)): each
+/// block's records go to a raw temporary file beside the target as soon as
+/// the block is done, so memory holds one block of records plus every
+/// member's status and summary; [`Self::finish`] assembles the archive in
+/// a second temporary file and renames it onto the target (or, for an
+/// interrupted sweep, onto `STEM.partial.npz`, leaving the target as it
+/// was). Dropped without finishing, it removes its temporary files.
+///
+/// The archive holds `data` (all records, `(total, columns)`), `offsets`
 /// (`(N + 1,)`, member `i` is `data[offsets[i]:offsets[i+1]]`), `columns`,
 /// `units`, `status` and `error` (per member, strings; `error` empty when
 /// none), the per-member summaries by the names of
@@ -166,58 +182,133 @@ fn npy_i64(values: &[i64]) -> Vec<u8> {
 /// `momentum_map_drift`, `max_defect`, `t_reached`; NaN for invalid
 /// members), `warnings` (the quality warnings of each member joined by
 /// `; `, empty when none), and the table itself as `table.<field>`.
-///
-/// `target` is checked against the output policy ([`crate::target`]); with
-/// `partial` (an interrupted sweep) the file goes to `STEM.partial.npz`
-/// instead and the target is left as it was. Returns the path written.
-pub fn write_ensemble(target: &Path, table: &Table, out: &Ensemble, partial: bool) -> io::Result<PathBuf> {
-    let mut dest = Target::resolve(target)?;
-    if partial {
-        dest = dest.partial()?;
+pub struct EnsembleWriter {
+    dest: Target,
+    raw_path: PathBuf,
+    raw: Option<BufWriter<File>>,
+    tmp: Option<PathBuf>,
+    columns: Vec<Column>,
+    offsets: Vec<i64>,
+    members: Vec<MemberOutcome>,
+}
+
+impl EnsembleWriter {
+    /// Checks `target` against the output policy ([`crate::target`]) and
+    /// opens the raw temporary file beside it.
+    pub fn create(target: &Path) -> io::Result<EnsembleWriter> {
+        let dest = Target::resolve(target)?;
+        let raw_path = dest.temporary("raw");
+        let raw = BufWriter::with_capacity(1 << 16, File::create(&raw_path)?);
+        Ok(EnsembleWriter { dest, raw_path, raw: Some(raw), tmp: None, columns: Vec::new(), offsets: vec![0], members: Vec::new() })
     }
-    let tmp = dest.temporary("tmp");
-    let result = (|| -> io::Result<()> {
+
+    /// Appends the next block of members (in table order).
+    pub fn push(&mut self, block: &Ensemble) -> io::Result<()> {
+        if self.columns.is_empty() {
+            self.columns = block.columns.clone();
+        }
+        let raw = self.raw.as_mut().ok_or_else(|| io::Error::other("the sweep's output is already finished"))?;
+        for v in &block.data {
+            raw.write_all(&v.to_le_bytes())?;
+        }
+        let base = *self.offsets.last().unwrap_or(&0);
+        self.offsets.extend(block.offsets[1..].iter().map(|&o| base + o as i64));
+        self.members.extend(block.members.iter().cloned());
+        Ok(())
+    }
+
+    /// The members written so far.
+    pub fn members(&self) -> &[MemberOutcome] {
+        &self.members
+    }
+
+    /// The records written so far.
+    pub fn records(&self) -> u64 {
+        self.offsets.last().copied().unwrap_or(0) as u64
+    }
+
+    /// Assembles the archive and renames it onto the target (with
+    /// `partial`, onto `STEM.partial.npz`). Returns the path written.
+    pub fn finish(mut self, table: &Table, partial: bool) -> io::Result<PathBuf> {
+        let dest = if partial { self.dest.partial()? } else { self.dest.clone() };
+        let mut raw = self.raw.take().ok_or_else(|| io::Error::other("the sweep's output is already finished"))?;
+        raw.flush()?;
+        drop(raw);
+        let tmp = dest.temporary_name("tmp");
+        self.tmp = Some(tmp.clone());
+        self.write_npz(&tmp, table)?;
+        dest.commit(&tmp)?;
+        self.tmp = None;
+        Ok(dest.resolved().to_path_buf())
+    }
+
+    fn write_npz(&self, path: &Path, table: &Table) -> io::Result<()> {
         use zip::write::SimpleFileOptions;
-        let file = File::create(&tmp)?;
-        let mut zip = zip::ZipWriter::new(BufWriter::new(file));
+        type Zip = zip::ZipWriter<BufWriter<File>>;
         let opts = SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored).large_file(true);
-        let to_io = |e: zip::result::ZipError| io::Error::other(e.to_string());
-        let mut put = |name: &str, bytes: &[u8]| -> io::Result<()> {
-            zip.start_file(format!("{name}.npy"), opts).map_err(to_io)?;
+        let start = |zip: &mut Zip, name: &str| zip.start_file(format!("{name}.npy"), opts).map_err(|e| io::Error::other(e.to_string()));
+        let put = |zip: &mut Zip, name: &str, bytes: &[u8]| -> io::Result<()> {
+            start(zip, name)?;
             zip.write_all(bytes)
         };
-        let nc = out.columns.len();
-        let rows = out.offsets.last().copied().unwrap_or(0);
-        put("data", &npy_f64(&out.data, &format!("({rows}, {nc})")))?;
-        put("offsets", &npy_i64(&out.offsets.iter().map(|&o| o as i64).collect::<Vec<_>>()))?;
-        let names: Vec<&str> = out.columns.iter().map(|c| c.name.as_str()).collect();
-        put("columns", &npy_strings(&names))?;
-        let units: Vec<&str> = out.columns.iter().map(|c| c.unit).collect();
-        put("units", &npy_strings(&units))?;
-        let status: Vec<&str> = out.members.iter().map(|m| m.status.name()).collect();
-        put("status", &npy_strings(&status))?;
-        let errors: Vec<&str> = out.members.iter().map(|m| m.error.as_deref().unwrap_or("")).collect();
-        put("error", &npy_strings(&errors))?;
-        let n = out.members.len();
-        for (k, name) in framedyn::scenes::RunSummary::NUMBER_NAMES.into_iter().enumerate() {
-            let v: Vec<f64> = out.members.iter().map(|m| m.summary.as_ref().map_or(f64::NAN, |s| s.numbers()[k])).collect();
-            put(name, &npy_f64(&v, &format!("({n},)")))?;
+        let mut zip: Zip = zip::ZipWriter::new(BufWriter::new(File::create(path)?));
+        start(&mut zip, "data")?;
+        zip.write_all(&npy_header("<f8", &format!("({}, {})", self.records(), self.columns.len())))?;
+        io::copy(&mut BufReader::with_capacity(1 << 16, File::open(&self.raw_path)?), &mut zip)?;
+        put(&mut zip, "offsets", &npy_i64(&self.offsets))?;
+        let names: Vec<&str> = self.columns.iter().map(|c| c.name.as_str()).collect();
+        put(&mut zip, "columns", &npy_strings(&names))?;
+        let units: Vec<&str> = self.columns.iter().map(|c| c.unit).collect();
+        put(&mut zip, "units", &npy_strings(&units))?;
+        let status: Vec<&str> = self.members.iter().map(|m| m.status.name()).collect();
+        put(&mut zip, "status", &npy_strings(&status))?;
+        let errors: Vec<&str> = self.members.iter().map(|m| m.error.as_deref().unwrap_or("")).collect();
+        put(&mut zip, "error", &npy_strings(&errors))?;
+        let n = self.members.len();
+        for (k, name) in RunSummary::NUMBER_NAMES.into_iter().enumerate() {
+            let v: Vec<f64> = self.members.iter().map(|m| m.summary.as_ref().map_or(f64::NAN, |s| s.numbers()[k])).collect();
+            put(&mut zip, name, &npy_f64(&v, &format!("({n},)")))?;
         }
-        let warnings: Vec<String> = out.members.iter().map(|m| m.summary.as_ref().map_or_else(String::new, |s| s.warning_texts().join("; "))).collect();
-        put("warnings", &npy_strings(&warnings.iter().map(String::as_str).collect::<Vec<_>>()))?;
+        let warnings: Vec<String> = self.members.iter().map(|m| m.summary.as_ref().map_or_else(String::new, |s| s.warning_texts().join("; "))).collect();
+        put(&mut zip, "warnings", &npy_strings(&warnings.iter().map(String::as_str).collect::<Vec<_>>()))?;
         for name in table.names() {
             let v = table.column(name).unwrap_or(&[]);
-            put(&format!("table.{name}"), &npy_f64(v, &format!("({},)", v.len())))?;
+            put(&mut zip, &format!("table.{name}"), &npy_f64(v, &format!("({},)", v.len())))?;
         }
-        let mut inner = zip.finish().map_err(to_io)?;
+        let mut inner = zip.finish().map_err(|e| io::Error::other(e.to_string()))?;
         inner.flush()?;
-        inner.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-        dest.commit(&tmp)
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
+        inner.into_inner().map_err(|e| e.into_error())?.sync_all()
     }
-    result.map(|()| dest.resolved().to_path_buf())
+}
+
+impl Drop for EnsembleWriter {
+    fn drop(&mut self) {
+        self.raw = None;
+        let _ = fs::remove_file(&self.raw_path);
+        if let Some(t) = &self.tmp {
+            let _ = fs::remove_file(t);
+        }
+    }
+}
+
+/// Members per block of a streamed sweep: what keeps one block's records
+/// near 64 MiB (from the base scene's record bound), at least a few per
+/// worker thread and at most 65,536.
+pub fn block_size(base: &Scene, keep: Keep) -> usize {
+    let (records, columns) = match base.build() {
+        Ok(sim) => (
+            match keep {
+                Keep::Final => 1,
+                Keep::Samples(k) => k,
+                Keep::All => sim.record_bound().unwrap_or(1_000),
+            },
+            sim.columns().len() as u64,
+        ),
+        Err(_) => (1_000, 32),
+    };
+    let per_member = records.saturating_mul(columns.max(1)).saturating_mul(8).max(1);
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as u64;
+    ((64u64 << 20) / per_member).clamp(4 * cores, 65_536) as usize
 }
 
 /// The size of the `.npz` a sweep of `table` on `base` (a valid scene) will
@@ -243,11 +334,11 @@ pub fn estimate(base: &Scene, table: &Table, keep: Keep) -> Option<OutputEstimat
 }
 
 /// `N finished, k failed, …` for the summary.
-pub fn status_counts(out: &Ensemble) -> String {
+pub fn status_counts(members: &[MemberOutcome]) -> String {
     let all = [MemberStatus::Finished, MemberStatus::Event, MemberStatus::Cancelled, MemberStatus::Failed, MemberStatus::Invalid];
     all.iter()
         .filter_map(|s| {
-            let k = out.members.iter().filter(|m| m.status == *s).count();
+            let k = members.iter().filter(|m| m.status == *s).count();
             (k > 0).then(|| format!("{k} {}", s.name()))
         })
         .collect::<Vec<_>>()
@@ -278,5 +369,56 @@ mod tests {
         assert!(e.contains("1-D"), "{e}");
         let e = parse_npy_1d(&npy_strings(&["a"])).unwrap_err();
         assert!(e.contains("float64"), "{e}");
+    }
+}
+
+#[cfg(test)]
+mod streaming {
+    use super::*;
+    use framedyn::scenes::{example, run_ensemble_blocks, EnsembleOptions, DEFAULT_SCENE};
+    use std::ops::ControlFlow;
+    use std::sync::atomic::AtomicBool;
+
+    /// Blocks pushed one by one give the archive of the whole ensemble,
+    /// byte for byte, and leave no temporary file.
+    #[test]
+    fn blocks_streamed_equal_the_whole_ensemble() {
+        let mut base = example(DEFAULT_SCENE).unwrap();
+        base.time.t_end = 0.5;
+        let table = Table::new([("initial.r", vec![0.3, 0.5, -0.7, 0.9, 1.1]), ("body.inertia", vec![0.2, 0.2, 0.2, -1.0, 0.2])]).unwrap();
+        let mut blocks = Vec::new();
+        let opts = EnsembleOptions { keep: Keep::All, threads: Some(2), oversubscribe: false };
+        run_ensemble_blocks(&base, &table, &opts, None, &AtomicBool::new(false), &|_| {}, 2, &mut |_, b| {
+            blocks.push(b);
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+        assert_eq!(blocks.len(), 3);
+        let mut whole = blocks[0].clone();
+        for b in &blocks[1..] {
+            let o = *whole.offsets.last().unwrap();
+            whole.data.extend_from_slice(&b.data);
+            whole.offsets.extend(b.offsets[1..].iter().map(|k| o + k));
+            whole.members.extend(b.members.iter().cloned());
+        }
+        let dir = std::env::temp_dir().join(format!("framedyn-sweep-stream-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let (a, b) = (dir.join("a.npz"), dir.join("b.npz"));
+        write_ensemble(&a, &table, &whole, false).unwrap();
+        let mut w = EnsembleWriter::create(&b).unwrap();
+        for blk in &blocks {
+            w.push(blk).unwrap();
+        }
+        assert_eq!(w.records(), *whole.offsets.last().unwrap() as u64);
+        w.finish(&table, false).unwrap();
+        assert_eq!(fs::read(&a).unwrap(), fs::read(&b).unwrap());
+        let left: Vec<_> = fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(left.len(), 2, "{left:?}");
+        // A writer dropped unfinished removes its temporary file.
+        let mut w = EnsembleWriter::create(&dir.join("c.npz")).unwrap();
+        w.push(&blocks[0]).unwrap();
+        drop(w);
+        assert_eq!(fs::read_dir(&dir).unwrap().count(), 2);
+        fs::remove_dir_all(&dir).unwrap();
     }
 }
