@@ -135,6 +135,7 @@ class EnsembleSolution:
         "frame_shape": "``(N_frame, E)``.",
         "status": "Per member: how it ended, ``(N,)`` array of str.",
         "status_names": "The statuses the core reports, in the order of their codes.",
+        "status_codes": "Per member: the index of its status in ``status_names``, ``(N,)`` uint8.",
         "errors": "Per member: the error message, or None.",
         "exceptions": "Per member: the exception its user potential raised, or None.",
         "warnings": "Per member: the quality check's findings (:class:`MemberWarnings`: ``warnings[i]`` is a list of str, empty when the run is sound).",
@@ -153,7 +154,8 @@ class EnsembleSolution:
         self.groups: List[Optional[str]] = list(raw["groups"])
         self.frame_shape: Tuple[int, int] = tuple(raw["frame_shape"])  # type: ignore[assignment]
         self.status_names: List[str] = list(raw["status_names"])
-        self.status: np.ndarray = np.array(self.status_names)[np.asarray(raw["status"], dtype=np.intp)]
+        self.status_codes: np.ndarray = np.asarray(raw["status"], dtype=np.uint8)
+        self.status: np.ndarray = np.array(self.status_names)[self.status_codes]
         self.errors: List[Optional[str]] = list(raw["errors"])
         self.exceptions: List[Optional[BaseException]] = list(raw["exceptions"])
         self.warnings = MemberWarnings(len(self.offsets) - 1, np.asarray(raw["warned"], dtype=np.int64), raw["warned_texts"])

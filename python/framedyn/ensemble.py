@@ -131,7 +131,12 @@ def _table_chunk(base: Any, names: List[str], cols: List[Any], keep: str, sample
         user_potential=user_potential, user_gradient=user_gradient,
     )
     part: Dict[str, Any] = {
-        "status": out.status, "status_names": out.status_names, "errors": out.errors, "stats": out.stats, "columns": out.columns, "units": out.units,
+        # Statuses as codes and errors only where there are any: a chunk of
+        # 65,536 members ships arrays, not a Python object per member.
+        "status": out.status_codes, "status_names": out.status_names,
+        "errored": np.array([i for i, e in enumerate(out.errors) if e is not None], dtype=np.int64),
+        "error_texts": [e for e in out.errors if e is not None],
+        "stats": out.stats, "columns": out.columns, "units": out.units,
         "groups": out.groups, "frame_shape": out.frame_shape, "method": out.method,
         "exceptions": [None if e is None else repr(e) for e in out.exceptions],
     }
@@ -257,9 +262,12 @@ def solve_table(
         futures.append(client.submit(_table_chunk, base, names, part, keep, samples, threads_per_task, store, start,
                                      user_potential, user_gradient, pure=False))
     parts = client.gather(futures)
-    status = np.concatenate([p["status"] for p in parts])
-    errors = [e for p in parts for e in p["errors"]]
+    status_codes = np.concatenate([p["status"] for p in parts]).astype(np.uint8)
     starts = np.cumsum([0] + [len(p["status"]) for p in parts[:-1]])
+    errors: List[Optional[str]] = [None] * n
+    for p, k in zip(parts, starts):
+        for i, text in zip(p["errored"], p["error_texts"]):
+            errors[int(k + i)] = text
     warned = MemberWarnings(
         n,
         np.concatenate([p["warned"] + k for p, k in zip(parts, starts)]) if parts else np.empty(0, np.int64),
@@ -268,11 +276,11 @@ def solve_table(
     stats = {k: np.concatenate([p["stats"][k] for p in parts]) for k in parts[0]["stats"]}
     columns: List[str] = next((p["columns"] for p in parts if p["columns"]), [])
     names_of_status: List[str] = parts[0]["status_names"]
-    codes = {s: i for i, s in enumerate(names_of_status)}
+    status = np.array(names_of_status)[status_codes]
     if store is not None:
         g = _zarr().open_group(store, mode="r+")
         st = g.create_array("status", shape=(n,), chunks=(chunk_size,), dtype="i1")
-        st[:] = np.array([codes[str(s)] for s in status], dtype=np.int8)
+        st[:] = status_codes.astype(np.int8)
         g.attrs["status_names"] = names_of_status
         for k, v in stats.items():
             g.create_array(k, shape=(n,), chunks=(chunk_size,), dtype="f8")[:] = v
@@ -292,7 +300,7 @@ def solve_table(
         "groups": next((p["groups"] for p in parts if p["columns"]), []),
         "frame_shape": next((p["frame_shape"] for p in parts if p["columns"]), (0, 0)),
         "status_names": names_of_status,
-        "status": np.array([codes[str(s)] for s in status], dtype=np.uint8),
+        "status": status_codes,
         "errors": errors, "exceptions": [None] * n, "warned": warned.flagged, "warned_texts": [warned[int(i)] for i in warned.flagged], "summary": stats, "method": parts[0]["method"] if parts else None,
         "events": {
             "member": np.concatenate([p["event_member"] + k for p, k in zip(parts, starts)]) if parts else np.empty(0, np.int64),
