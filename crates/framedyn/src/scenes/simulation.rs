@@ -91,7 +91,10 @@ pub(crate) struct Records<'a, S: Observe> {
 impl<'a, S: Observe> Records<'a, S> {
     fn new(sys: &'a S, sel: Sel, sink: &'a mut dyn RecordSink, summary: &'a mut RunSummary, mm_idx: &'a [usize], events: &'a [Event<[f64]>]) -> Self {
         let last = sink.last_only().then_some(None);
-        Records { sys, sel, sink, summary, mm_idx, events, buf: Vec::new(), mm: Vec::new(), mm0: Vec::new(), last }
+        // Room for the widest record (an affine body on S³ has 59 columns):
+        // no reallocation while the first record is built.
+        let (buf, mm, mm0) = (Vec::with_capacity(64), Vec::with_capacity(mm_idx.len()), Vec::with_capacity(mm_idx.len()));
+        Records { sys, sel, sink, summary, mm_idx, events, buf, mm, mm0, last }
     }
 
     /// Notes the record whose momentum maps are in `self.mm`.
