@@ -15,8 +15,10 @@ Measured (benchmarks, not tests; the CSV keeps the machine's load):
    ``--large``), threads = 1 and 2: members/s of the whole call;
 2. the per-member overhead: the same call with ``time.t_end`` = 1e-9 (one
    step of 1e-9), per member;
-3. the list-of-dicts form ``fd.solve_batch(scene, [dict, …])`` at N = 10³
-   for comparison;
+3. a batch with a Python ``user_potential`` (6 members × 400 RK4 steps)
+   against a loop of ``fd.solve`` over the same members, in ``--rounds``
+   alternating rounds, and the list-of-dicts form
+   ``fd.solve_batch(scene, [dict, …])`` at N = 10³ for comparison;
 4. the accuracy of each method on 200 members against a reference
    (scipy DOP853, rtol = atol = 1e-13, in the paper's coordinates): the
    maximal error of the final ambient observable;
@@ -56,7 +58,7 @@ T_END = 20.0
 H = 0.4
 SEED = 20261127
 CHECK = 200  # members whose error is measured
-FIELDS = ["tool", "variant", "members", "threads", "wall_s", "members_per_s", "per_member_us", "max_error", "compile_s", "load1"]
+FIELDS = ["tool", "variant", "members", "threads", "wall_s", "members_per_s", "per_member_us", "run_us", "max_error", "compile_s", "load1"]
 
 
 def members(n, seed=SEED):
@@ -88,10 +90,12 @@ def references(r, rd, om):
     return np.array(out)
 
 
-def row(tool, variant, n, threads, wall, err=float("nan"), compile_s=float("nan")):
+def row(tool, variant, n, threads, wall, err=float("nan"), compile_s=float("nan"), run_s=float("nan")):
+    """``run_s``: framedyn's own time inside ``Simulation::run`` per member
+    (``stats["wall_time"]``, mean), where measured."""
     return {
         "tool": tool, "variant": variant, "members": n, "threads": threads, "wall_s": f"{wall:.6f}",
-        "members_per_s": f"{n / wall:.1f}", "per_member_us": f"{1e6 * wall / n:.3f}",
+        "members_per_s": f"{n / wall:.1f}", "per_member_us": f"{1e6 * wall / n:.3f}", "run_us": f"{1e6 * run_s:.3f}",
         "max_error": f"{err:.3e}", "compile_s": f"{compile_s:.2f}", "load1": f"{os.getloadavg()[0]:.2f}",
     }
 
@@ -146,11 +150,20 @@ def measure_framedyn(args):
             assert (out.status == "finished").all()
             rows.append(row("framedyn", "columnar", n, threads, wall, err))
             print(f"framedyn columnar N={n} threads={threads}: {n / wall:,.0f} members/s", flush=True)
+    # One native integration of the same problem (all records, as fd.solve
+    # gives them): the cost a batch member is compared with.
+    wall, sol = best_of(lambda: fd.solve(base), 20 * args.repeats)
+    rows.append(row("framedyn", "single_solve", 1, 1, wall, run_s=sol.stats["wall_time"]))
+    print(f"framedyn one fd.solve: {1e6 * wall:.1f} µs ({1e6 * sol.stats['wall_time']:.1f} µs in the run)", flush=True)
+    # Members of one step of 1e-9: what a member costs besides its steps
+    # (run_us: the part inside Simulation::run, one step and the summary of
+    # two states; the rest is building and bookkeeping).
     tiny = framedyn_scene(fd, t_end=1e-9)
     for n in sizes:
-        wall, _ = best_of(lambda: fd.solve_batch(tiny, table(n), keep="final", threads=1), args.repeats)
-        rows.append(row("framedyn", "overhead", n, 1, wall))
-        print(f"framedyn per-member overhead N={n}: {1e6 * wall / n:.2f} µs", flush=True)
+        wall, out = best_of(lambda: fd.solve_batch(tiny, table(n), keep="final", threads=1), args.repeats)
+        run_s = float(np.mean(out.stats["wall_time"]))
+        rows.append(row("framedyn", "overhead", n, 1, wall, run_s=run_s))
+        print(f"framedyn per-member overhead N={n}: {1e6 * wall / n:.2f} µs, of which {1e6 * run_s:.2f} µs in the run", flush=True)
     # A Python user potential (V = a z/R, the cosine potential by hand),
     # 6 members × 400 RK4 steps: the batch (members one after another, each
     # call holding the GIL) against a loop of fd.solve over the same members.
@@ -161,12 +174,18 @@ def measure_framedyn(args):
     )
     k = 6
     uparams = [{"initial.r": float(r[i]), "initial.r_dot": float(rd[i])} for i in range(k)]
-    wall_b, ub = best_of(lambda: fd.solve_batch(ubase, {"initial.r": r[:k], "initial.r_dot": rd[:k]}, user_potential=upot, keep="final"), args.repeats)
-    wall_l, ul = best_of(lambda: [fd.solve(ubase.with_params(p), user_potential=upot) for p in uparams], args.repeats)
-    assert all(np.array_equal(ub.final[i], ul[i].data[-1]) for i in range(k))
-    rows.append(row("framedyn", "user_potential_batch", k, 1, wall_b))
-    rows.append(row("framedyn", "user_potential_loop", k, 1, wall_l))
-    print(f"user potential: batch {wall_b:.3f} s, loop of fd.solve {wall_l:.3f} s", flush=True)
+    # Rounds alternate the two (one row each per round: the per-round ratio
+    # is robust to the machine's drift), each keeping the best of `repeats`.
+    ratios = []
+    for _ in range(args.rounds):
+        wall_b, ub = best_of(lambda: fd.solve_batch(ubase, {"initial.r": r[:k], "initial.r_dot": rd[:k]}, user_potential=upot, keep="final"), args.repeats)
+        wall_l, ul = best_of(lambda: [fd.solve(ubase.with_params(p), user_potential=upot) for p in uparams], args.repeats)
+        assert all(np.array_equal(ub.final[i], ul[i].data[-1]) for i in range(k))
+        rows.append(row("framedyn", "user_potential_batch", k, 1, wall_b))
+        rows.append(row("framedyn", "user_potential_loop", k, 1, wall_l))
+        ratios.append(wall_b / wall_l)
+        print(f"user potential: batch {wall_b:.3f} s, loop of fd.solve {wall_l:.3f} s, batch/loop {wall_b / wall_l:.3f}", flush=True)
+    print(f"user potential: batch/loop over {args.rounds} rounds: median {np.median(ratios):.3f}, max {max(ratios):.3f}", flush=True)
     n = min(1000, max(sizes))
     params = [{"initial.r": float(r[k]), "initial.r_dot": float(rd[k]), "initial.spin": float(I * om[k])} for k in range(n)]
     for threads in (1, 2):
@@ -272,11 +291,11 @@ def write_csv(rows, append):
 def summary():
     with open(CSV_PATH, newline="") as f:
         rows = list(csv.DictReader(f))
-    out = ["| tool | variant | N | threads | members/s | µs/member | max error | compile s | load |", "|---|---|---|---|---|---|---|---|---|"]
+    out = ["| tool | variant | N | threads | members/s | µs/member | µs in the run | max error | compile s | load |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         out.append(
             f"| {r['tool']} | {r['variant']} | {r['members']} | {r['threads']} | {float(r['members_per_s']):,.0f} | "
-            f"{float(r['per_member_us']):.2f} | {r['max_error']} | {r['compile_s']} | {r['load1']} |"
+            f"{float(r['per_member_us']):.2f} | {r.get('run_us', 'nan')} | {r['max_error']} | {r['compile_s']} | {r['load1']} |"
         )
     return "\n".join(out)
 
@@ -284,6 +303,7 @@ def summary():
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--repeats", type=int, default=3, help="runs per measurement (the minimum is kept)")
+    ap.add_argument("--rounds", type=int, default=5, help="alternating rounds of the user-potential batch and loop")
     ap.add_argument("--large", action="store_true", help="also N = 10^5")
     ap.add_argument("--sizes", default="100,1000,10000", help="ensemble sizes N (comma-separated; default 100,1000,10000)")
     ap.add_argument("--summary-only", action="store_true")
@@ -297,7 +317,7 @@ def main():
     if args.summary_only:
         print(summary())
         return
-    passthrough = ["--repeats", str(args.repeats), "--sizes", ",".join(map(str, args.sizes))]
+    passthrough = ["--repeats", str(args.repeats), "--rounds", str(args.rounds), "--sizes", ",".join(map(str, args.sizes))]
     if args.measure:
         write_csv(measure_framedyn(args), append=False)
         return
