@@ -157,7 +157,8 @@ pub struct EnsembleOptions {
     /// Worker threads (`None`: rayon's global pool, one per core). At most
     /// [`EnsembleOptions::MAX_THREADS`]; never more than the members, nor
     /// more than the machine's cores unless `oversubscribe`
-    /// ([`worker_threads`]).
+    /// ([`worker_threads`]). With one worker thread the members run on the
+    /// calling thread, one after another.
     pub threads: Option<usize>,
     /// Allow more threads than cores (the members are CPU-bound: more
     /// threads than cores only add switching).
