@@ -124,12 +124,17 @@ def _table_chunk(base: Any, names: List[str], cols: List[Any], keep: str, sample
     """Runs on a worker: one chunk of a columnar ensemble. With a store, its
     records go into the store's rows ``start:start + n`` and only statuses
     and summaries come back."""
+    import warnings
+
     import framedyn
 
-    out = framedyn.solve_batch(
-        base, dict(zip(names, cols)), keep=keep, samples=samples, threads=threads, on_error="keep",
-        user_potential=user_potential, user_gradient=user_gradient,
-    )
+    # The findings travel back in the result; the client warns once.
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", framedyn.QualityWarning)
+        out = framedyn.solve_batch(
+            base, dict(zip(names, cols)), keep=keep, samples=samples, threads=threads, on_error="keep",
+            user_potential=user_potential, user_gradient=user_gradient,
+        )
     part: Dict[str, Any] = {
         # Statuses as codes and errors only where there are any: a chunk of
         # 65,536 members ships arrays, not a Python object per member.
@@ -277,6 +282,19 @@ def solve_table(
     columns: List[str] = next((p["columns"] for p in parts if p["columns"]), [])
     names_of_status: List[str] = parts[0]["status_names"]
     status = np.array(names_of_status)[status_codes]
+    if len(warned.flagged):
+        import warnings
+
+        from ._errors import QualityWarning
+
+        first = int(warned.flagged[0])
+        warnings.warn(
+            QualityWarning(
+                f"solve_table: {len(warned.flagged)} of {n} members failed the quality check (out.warnings, out.warnings.flagged); "
+                f"member {first}: " + "; ".join(warned[first])
+            ),
+            stacklevel=2,
+        )
     if store is not None:
         g = _zarr().open_group(store, mode="r+")
         st = g.create_array("status", shape=(n,), chunks=(chunk_size,), dtype="i1")

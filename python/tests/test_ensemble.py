@@ -105,12 +105,14 @@ def test_stored_ensemble_carries_the_quality_warnings(client, tmp_path):
     base = fd.Scene.from_dict(d)
     table = {"method.h": np.array([0.002, 0.1, 0.002, 0.2, 0.001, 0.1, 0.002]),
              "initial.r": np.array([0.5, 0.6, -2.0, 0.7, 0.8, 0.9, 1.0])}
-    local = fd.solve_batch(base, table, samples=6, on_error="keep")
+    with pytest.warns(fd.QualityWarning, match="solve_batch: 3 of 7 members failed the quality check"):
+        local = fd.solve_batch(base, table, samples=6, on_error="keep")
     flagged = [i for i, w in enumerate(local.warnings) if w]
     assert flagged == [1, 3, 5] and all("energy drift" in local.warnings[i][0] for i in flagged)
 
     path = str(tmp_path / "runs.zarr")
-    out = solve_table(base, table, client=client, chunk_size=3, samples=6, store=path)
+    with pytest.warns(fd.QualityWarning, match="solve_table: 3 of 7 members failed the quality check .* member 1: the energy drift"):
+        out = solve_table(base, table, client=client, chunk_size=3, samples=6, store=path)
     assert isinstance(out, StoredEnsemble) and isinstance(out.warnings, MemberWarnings)
     assert len(out.warnings) == 7 and list(out.warnings) == local.warnings and out.warnings == local.warnings
     assert out.warnings.flagged.tolist() == flagged
@@ -123,7 +125,8 @@ def test_stored_ensemble_carries_the_quality_warnings(client, tmp_path):
     g = zarr.open_group(path, mode="r")
     assert [str(s) for s in g["warnings"][:]] == ["; ".join(w) for w in local.warnings]
     # Without a store, the gathered ensemble has them too.
-    mem = solve_table(base, table, client=client, chunk_size=3, samples=6)
+    with pytest.warns(fd.QualityWarning):
+        mem = solve_table(base, table, client=client, chunk_size=3, samples=6)
     assert mem.warnings == local.warnings
     # A chunk sends the findings of its flagged members only.
     part = _table_chunk(base, list(table), list(table.values()), "all", 6, 1, None, 0, None, None)

@@ -75,12 +75,14 @@ impl OutputEstimate {
 
     /// A sweep's `.npz`: `records` records of `columns` values in all,
     /// `members` members each with `per_member` further numbers (offsets,
-    /// summaries, table values, statuses). Everything is written once, from
-    /// memory: the peak is the file.
+    /// summaries, table values, statuses). The records are streamed to a
+    /// raw temporary file and copied into the archive
+    /// ([`EnsembleWriter`](crate::sweep::EnsembleWriter)), so both exist at
+    /// the end, as for a run's `.npz`.
     pub fn sweep(records: u64, columns: usize, members: u64, per_member: usize) -> OutputEstimate {
-        let values = records as f64 * columns as f64 + members as f64 * per_member as f64;
-        let b = values * NPZ_BYTES_PER_VALUE + HEADER_BYTES;
-        OutputEstimate { records, columns, format: Format::Npz, file_bytes: b, peak_bytes: b }
+        let raw = records as f64 * columns as f64 * NPZ_BYTES_PER_VALUE;
+        let b = raw + members as f64 * per_member as f64 * NPZ_BYTES_PER_VALUE + HEADER_BYTES;
+        OutputEstimate { records, columns, format: Format::Npz, file_bytes: b, peak_bytes: b + raw }
     }
 
     /// `csv` or `npz`.
