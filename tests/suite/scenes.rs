@@ -394,6 +394,46 @@ fn errors_name_field_value_and_location() {
     assert!(msg.contains(DEFAULT_SCENE));
 }
 
+/// Scenes carry a format version: absent or current reads as before, a
+/// future version is refused naming the field, the value and the version
+/// this build reads, also when the rest of the scene would not parse.
+#[test]
+fn scene_format_version_is_checked() {
+    let text = base();
+    let current = format!("format = {}\n{text}", Scene::FORMAT);
+    let scene = Scene::from_toml_str(&current).unwrap();
+    assert_eq!(scene.format, Some(Scene::FORMAT));
+    assert_eq!(run(&scene).1, run(&Scene::from_toml_str(&text).unwrap()).1);
+    assert_eq!(Scene::from_toml_str(&text).unwrap().format, None);
+    let future = format!("# a comment\nformat = 2\n{text}");
+    for (e, line) in [
+        (Scene::from_toml_str(&future).unwrap_err(), Some(2)),
+        // A field this version does not know: still the format error.
+        (Scene::from_toml_str(&format!("{future}\n[wormhole]\nthroat = 1.0\n")).unwrap_err(), Some(2)),
+        (Scene::from_json_str("{\"format\": 2, \"manifold\": {\"kind\": \"S2\"}}").unwrap_err(), Some(1)),
+        (Scene::from_json_str("{\"format\": 7, \"future\": true}").unwrap_err(), Some(1)),
+    ] {
+        match &e {
+            SceneError::Invalid { path, value, allowed, location } => {
+                assert_eq!(path, "format", "{e}");
+                assert!(value == "2" || value == "7", "{e}");
+                assert!(allowed.contains(&format!("reads scene format {}", Scene::FORMAT)), "{e}");
+                assert_eq!(location.map(|l| l.line), line, "{e}");
+            }
+            e => panic!("not a format error: {e}"),
+        }
+    }
+    // Built in code: checked when built.
+    let mut scene = Scene::from_toml_str(&text).unwrap();
+    scene.format = Some(0);
+    assert_eq!(scene.validate().unwrap_err().path(), Some("format"));
+    // Not an integer: a parse error at the field.
+    assert_eq!(Scene::from_toml_str(&format!("format = \"1\"\n{text}")).unwrap_err().path(), Some("format"));
+    // Written back only when given.
+    assert!(!Scene::from_toml_str(&text).unwrap().to_toml_string().contains("format ="));
+    assert!(scene.to_toml_string().starts_with("format = 0"));
+}
+
 /// Physically invalid initial states are rejected with the field named.
 #[test]
 fn invalid_states_are_typed_errors() {

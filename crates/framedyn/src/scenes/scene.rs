@@ -21,6 +21,14 @@ enum Source {
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
+    /// `format`: the version of the scene format the text is written in.
+    /// Absent means [`Scene::FORMAT`], the version this build reads and
+    /// writes; any other version is refused (an invalid `format` error), even
+    /// when the rest of the scene does not parse, so that a scene written
+    /// for a newer framedyn says so instead of failing on a field it does
+    /// not know.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub format: Option<u32>,
     /// A short name.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
@@ -57,10 +65,16 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// The scene format version this build reads (the `format` field):
+    /// raised, with an entry in the changelog, when a scene that parsed
+    /// before would parse differently or not at all.
+    pub const FORMAT: u32 = 1;
+
     /// A scene from its parts, with no potential, the default method and
     /// output (fill in the public fields to change them).
     pub fn new(manifold: ManifoldSpec, body: BodySpec, initial: InitialSpec, time: TimeSpec) -> Scene {
         Scene {
+            format: None,
             name: None,
             description: None,
             manifold,
@@ -88,14 +102,20 @@ impl Scene {
             // Errors of the TOML syntax itself come before any field is
             // deserialised: the key is read from the line.
             let path = if path == "." { inner.span().and_then(|s| locate::toml_key_at(text, s.start)).unwrap_or_default() } else { path };
-            SceneError::Parse {
+            let error = SceneError::Parse {
                 format: "TOML",
                 path,
                 message: inner.message().trim().to_string(),
                 location,
+            };
+            // A scene of another format version fails on that, not on a field it may add.
+            match toml::from_str::<FormatProbe>(text) {
+                Ok(FormatProbe { format: Some(v) }) if v != Self::FORMAT => locate_format(Self::format_error(v), locate::toml_path(text, "format")),
+                _ => error,
             }
         })?;
         scene.source = Some(Source::Toml(text.into()));
+        scene.check_format().map_err(|e| scene.locate(e))?;
         Ok(scene)
     }
 
@@ -110,7 +130,11 @@ impl Scene {
             if let Some(i) = message.find(" at line ") {
                 message.truncate(i);
             }
-            SceneError::Parse { format: "JSON", path: if path == "." { String::new() } else { path }, message, location }
+            let error = SceneError::Parse { format: "JSON", path: if path == "." { String::new() } else { path }, message, location };
+            match serde_json::from_str::<FormatProbe>(text) {
+                Ok(FormatProbe { format: Some(v) }) if v != Self::FORMAT => locate_format(Self::format_error(v), locate::json_path(text, "format")),
+                _ => error,
+            }
         })?;
         de.end().map_err(|e| SceneError::Parse {
             format: "JSON",
@@ -119,6 +143,7 @@ impl Scene {
             location: Some(Location { line: e.line(), column: e.column() }),
         })?;
         scene.source = Some(Source::Json(text.into()));
+        scene.check_format().map_err(|e| scene.locate(e))?;
         Ok(scene)
     }
 
@@ -206,6 +231,27 @@ impl Scene {
         })
     }
 
+    /// `format` absent or [`Self::FORMAT`].
+    fn check_format(&self) -> Result<(), SceneError> {
+        match self.format {
+            Some(v) if v != Self::FORMAT => Err(Self::format_error(v)),
+            _ => Ok(()),
+        }
+    }
+
+    fn format_error(v: u32) -> SceneError {
+        SceneError::invalid(
+            "format",
+            v,
+            format!(
+                "this framedyn ({}) reads scene format {} (omit `format` or write `format = {}`); a scene of another format needs the framedyn version that writes it (CHANGELOG.md)",
+                env!("CARGO_PKG_VERSION"),
+                Self::FORMAT,
+                Self::FORMAT
+            ),
+        )
+    }
+
     pub(crate) fn locate(&self, e: SceneError) -> SceneError {
         match e {
             SceneError::Invalid { path, value, allowed, location: None } => {
@@ -223,6 +269,7 @@ impl Scene {
     /// Plans, builds the engine of the manifold × body, checks that the
     /// method can integrate it, and compiles the events.
     fn build_inner(&self, user: Option<UserFunctions>) -> Result<Simulation, SceneError> {
+        self.check_format()?;
         let mut plan = self.plan()?;
         let engine = self.planned_engine(user, &plan)?;
         let columns = engine.columns(plan.sel);
@@ -250,5 +297,19 @@ impl Scene {
             ));
         }
         Ok(engine)
+    }
+}
+
+/// The `format` field alone, read leniently when a scene does not parse.
+#[derive(serde::Deserialize)]
+struct FormatProbe {
+    #[serde(default)]
+    format: Option<u32>,
+}
+
+fn locate_format(e: SceneError, location: Option<Location>) -> SceneError {
+    match e {
+        SceneError::Invalid { path, value, allowed, .. } => SceneError::Invalid { path, value, allowed, location },
+        other => other,
     }
 }
