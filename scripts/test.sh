@@ -75,6 +75,9 @@ step "examples (build and run)"
 # the build time.
 stamp="$(mktemp)"
 trap 'rm -f "$stamp"' EXIT
+# The extension is an abi3 module (_framedyn.abi3.so); a version-specific
+# one left by a build before the switch would shadow it on import.
+rm -f python/framedyn/_framedyn.cpython-*.so
 "$FRAMEDYN_VENV/bin/maturin" develop --quiet
 if [ -n "$(find "$target_dir/debug/deps" -maxdepth 1 -name 'libframedyn-*.rlib' -newer "$stamp")" ]; then
     echo "maturin compiled the core crate a second time: a shared dependency's features differ between" >&2
