@@ -297,7 +297,9 @@ fn run_sweep(
     (threads, oversubscribe): (Option<usize>, bool),
     (quiet, check_space): (bool, bool),
 ) -> Result<(), (u8, String)> {
-    scene.validate().map_err(|e| (EXIT_INVALID, format!("{origin}: invalid scene: {e}")))?;
+    // Built once: the validation of the base scene, and its columns and
+    // record bound for the size estimate and the block size.
+    let sim = scene.build().map_err(|e| (EXIT_INVALID, format!("{origin}: invalid scene: {e}")))?;
     let table = sweep::read_table(table).map_err(|e| match e {
         sweep::TableError::Io(m) => (EXIT_IO, m),
         sweep::TableError::Invalid(m) => (EXIT_INVALID, m),
@@ -305,9 +307,9 @@ fn run_sweep(
     // The output path is checked before the members run, and so is the
     // room for what they can write.
     let target = target::Target::resolve(output).map_err(|e| (EXIT_IO, format!("cannot write the output: {e}")))?;
-    let estimate = sweep::estimate(&scene, &table, keep);
+    let estimate = sweep::estimate(&scene, &sim, &table, keep);
     announce_or_refuse(
-        &estimate,
+        Some(&estimate),
         &target,
         check_space,
         "keep fewer records with --keep final or --samples K, or fewer columns with output.quantities, or write elsewhere with --output",
@@ -326,7 +328,7 @@ fn run_sweep(
     let started = Instant::now();
     // Streamed: each block of members goes to the output's raw temporary
     // file as soon as it is done (sweep::EnsembleWriter).
-    let mut writer = sweep::EnsembleWriter::create(output).map_err(|e| (EXIT_IO, format!("cannot write the output {}: {e} (no output written)", output.display())))?;
+    let mut writer = sweep::EnsembleWriter::create_at(target).map_err(|e| (EXIT_IO, format!("cannot write the output {}: {e} (no output written)", output.display())))?;
     let mut write_error = None;
     scenes::run_ensemble_blocks(
         &scene,
@@ -339,7 +341,7 @@ fn run_sweep(
                 b.set_position(k as u64);
             }
         },
-        sweep::block_size(&scene, keep),
+        sweep::block_size(&sim, keep),
         &mut |_, block| match writer.push(&block) {
             Ok(()) => std::ops::ControlFlow::Continue(()),
             Err(e) => {
@@ -396,7 +398,7 @@ fn run_sweep(
 /// [`space::LARGE_OUTPUT_BYTES`], and refuses it (exit 5, nothing written)
 /// when it cannot fit in the free space of the target's file system
 /// (unless `check` is off: `--no-space-check`).
-fn announce_or_refuse(estimate: &Option<space::OutputEstimate>, target: &target::Target, check: bool, advice: &str) -> Result<(), (u8, String)> {
+fn announce_or_refuse(estimate: Option<&space::OutputEstimate>, target: &target::Target, check: bool, advice: &str) -> Result<(), (u8, String)> {
     let Some(estimate) = estimate else { return Ok(()) };
     if check {
         space::check(estimate, target.directory(), advice).map_err(|e| (EXIT_IO, e.to_string()))?;
@@ -422,7 +424,7 @@ fn run_scene(scene: Scene, origin: &str, output: Option<PathBuf>, format: Option
     // before anything is written, of one that cannot fit.
     let estimate = sim.record_bound().map(|records| space::OutputEstimate::new(records, sim.columns().len(), format));
     announce_or_refuse(
-        &estimate,
+        estimate.as_ref(),
         &target,
         check_space,
         "record fewer with output.every, output.samples or output.quantities, or write elsewhere with --output",

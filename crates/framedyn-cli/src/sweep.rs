@@ -10,7 +10,7 @@ use std::fs::{self, File};
 use std::io::{self, BufRead, BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
-use framedyn::scenes::{Column, Ensemble, Keep, MemberOutcome, MemberStatus, RunSummary, Scene, Table};
+use framedyn::scenes::{Column, Ensemble, Keep, MemberOutcome, MemberStatus, RunSummary, Scene, Simulation, Table};
 
 use crate::output::{npy_header, npy_strings};
 use crate::space::OutputEstimate;
@@ -196,7 +196,11 @@ impl EnsembleWriter {
     /// Checks `target` against the output policy ([`crate::target`]) and
     /// opens the raw temporary file beside it.
     pub fn create(target: &Path) -> io::Result<EnsembleWriter> {
-        let dest = Target::resolve(target)?;
+        EnsembleWriter::create_at(Target::resolve(target)?)
+    }
+
+    /// [`Self::create`] for a target already checked against the output policy.
+    pub fn create_at(dest: Target) -> io::Result<EnsembleWriter> {
         let raw_path = dest.temporary("raw");
         let raw = BufWriter::with_capacity(1 << 16, File::create(&raw_path)?);
         Ok(EnsembleWriter { dest, raw_path, raw: Some(raw), tmp: None, columns: Vec::new(), offsets: vec![0], members: Vec::new() })
@@ -294,18 +298,13 @@ impl Drop for EnsembleWriter {
 /// Members per block of a streamed sweep: what keeps one block's records
 /// near 64 MiB (from the base scene's record bound), at least a few per
 /// worker thread and at most 65,536.
-pub fn block_size(base: &Scene, keep: Keep) -> usize {
-    let (records, columns) = match base.build() {
-        Ok(sim) => (
-            match keep {
-                Keep::Final => 1,
-                Keep::Samples(k) => k,
-                Keep::All => sim.record_bound().unwrap_or(1_000),
-            },
-            sim.columns().len() as u64,
-        ),
-        Err(_) => (1_000, 32),
+pub fn block_size(base: &Simulation, keep: Keep) -> usize {
+    let records = match keep {
+        Keep::Final => 1,
+        Keep::Samples(k) => k,
+        Keep::All => base.record_bound().unwrap_or(1_000),
     };
+    let columns = base.columns().len() as u64;
     let per_member = records.saturating_mul(columns.max(1)).saturating_mul(8).max(1);
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as u64;
     ((64u64 << 20) / per_member).clamp(4 * cores, 65_536) as usize
@@ -318,9 +317,9 @@ pub fn block_size(base: &Scene, keep: Keep) -> usize {
 /// count is not known in advance (adaptive steps saving every step) and
 /// invalid members count no records, and the strings (statuses, errors,
 /// warnings) are not counted: the estimate is what the file needs at least.
-/// `None` if the base scene cannot be built.
-pub fn estimate(base: &Scene, table: &Table, keep: Keep) -> Option<OutputEstimate> {
-    let columns = base.build().ok()?.columns().len();
+/// `sim` is `base` built (its columns are every member's).
+pub fn estimate(base: &Scene, sim: &Simulation, table: &Table, keep: Keep) -> OutputEstimate {
+    let columns = sim.columns().len();
     let n = table.len() as u64;
     let records = match keep {
         Keep::Final => n,
@@ -330,7 +329,7 @@ pub fn estimate(base: &Scene, table: &Table, keep: Keep) -> Option<OutputEstimat
             .fold(0u64, u64::saturating_add),
     };
     let per_member = 1 + RunSummary::NUMBER_NAMES.len() + table.names().count();
-    Some(OutputEstimate::sweep(records, columns, n, per_member))
+    OutputEstimate::sweep(records, columns, n, per_member)
 }
 
 /// `N finished, k failed, …` for the summary.

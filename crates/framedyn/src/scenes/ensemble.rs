@@ -352,18 +352,23 @@ impl<'a> Worker<'a> {
         for (path, values) in &self.table.columns {
             path.apply(&mut self.scene, values[i]).map_err(|e| at_member(e, i).to_string())?;
         }
-        let built = match self.sim.as_mut() {
-            Some(sim) => sim.rebuild(&self.scene, user.cloned(), self.replan),
+        let built = match self.sim.take() {
+            // A failed rebuild leaves the simulation as it was: kept for the next member.
+            Some(mut sim) => match sim.rebuild(&self.scene, user.cloned(), self.replan) {
+                Ok(()) => Ok(sim),
+                Err(e) => {
+                    self.sim = Some(sim);
+                    Err(e)
+                }
+            },
             None => match user {
                 None => self.scene.build(),
                 Some(u) => self.scene.build_with_user(u.clone()),
-            }
-            .map(|sim| self.sim = Some(sim)),
+            },
         };
-        match (built, self.sim.as_mut()) {
-            (Ok(()), Some(sim)) => Ok(sim),
-            (Ok(()), None) => Err(format!("member {i}: the simulation was not built")),
-            (Err(e), _) => Err(match self.table.blame(&e) {
+        match built {
+            Ok(sim) => Ok(self.sim.insert(sim)),
+            Err(e) => Err(match self.table.blame(&e) {
                 Some(col) => format!("{e} (table column `{col}`, member {i})"),
                 None => format!("{e} (member {i})"),
             }),
