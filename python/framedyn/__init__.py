@@ -331,14 +331,9 @@ def _solve_table(
     names, cols = table_columns(table)
     raw = _framedyn.run_table(scene._native, names, cols, mode, samples, threads, user_potential, user_gradient, oversubscribe)
     out = EnsembleSolution(raw)
-    flagged = out.warnings.flagged
-    if flagged.size:
-        first = int(flagged[0])
-        _warn_quality(
-            [f"{flagged.size} of {len(out)} members failed the quality check (out.warnings, out.warnings.flagged); member {first}: " + "; ".join(out.warnings[first])],
-            "solve_batch",
-            stacklevel=4,
-        )
+    found = out.warnings.summary()
+    if found:
+        _warn_quality([found], "solve_batch", stacklevel=4)
     if on_error == "raise":
         bad = np.flatnonzero(out.status == "invalid")
         if bad.size:

@@ -96,6 +96,18 @@ class MemberWarnings(collections.abc.Sequence):  # type: ignore[type-arg]
     def __repr__(self) -> str:
         return f"MemberWarnings({len(self.flagged)} of {self._n} members with warnings)"
 
+    def summary(self) -> Optional[str]:
+        """One line for a :class:`~framedyn.QualityWarning`: how many members
+        failed the quality check and the findings of the first; None when
+        none did."""
+        if not len(self.flagged):
+            return None
+        first = int(self.flagged[0])
+        return (
+            f"{len(self.flagged)} of {self._n} members failed the quality check (out.warnings, out.warnings.flagged); "
+            f"member {first}: " + "; ".join(self[first])
+        )
+
 
 class EnsembleSolution:
     """The records of every member of an ensemble, in one array.

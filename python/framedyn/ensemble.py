@@ -282,19 +282,13 @@ def solve_table(
     columns: List[str] = next((p["columns"] for p in parts if p["columns"]), [])
     names_of_status: List[str] = parts[0]["status_names"]
     status = np.array(names_of_status)[status_codes]
-    if len(warned.flagged):
+    found = warned.summary()
+    if found:
         import warnings
 
         from ._errors import QualityWarning
 
-        first = int(warned.flagged[0])
-        warnings.warn(
-            QualityWarning(
-                f"solve_table: {len(warned.flagged)} of {n} members failed the quality check (out.warnings, out.warnings.flagged); "
-                f"member {first}: " + "; ".join(warned[first])
-            ),
-            stacklevel=2,
-        )
+        warnings.warn(QualityWarning(f"solve_table: {found}"), stacklevel=2)
     if store is not None:
         g = _zarr().open_group(store, mode="r+")
         st = g.create_array("status", shape=(n,), chunks=(chunk_size,), dtype="i1")

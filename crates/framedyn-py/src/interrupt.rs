@@ -27,8 +27,7 @@ pub fn interruptible<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> 
         // The worker is attached to the interpreter once, for the whole
         // call, and then detached: a user potential called on it re-attaches
         // to that thread state instead of creating and destroying one per
-        // call (which made a batch with a Python potential 17× slower than
-        // a loop of `solve`).
+        // call, which costs more than a short potential itself.
         let worker = s.spawn(|| {
             let _done = done;
             Python::attach(|py| py.detach(|| crate::errors::guard(|| work(&cancel))))
