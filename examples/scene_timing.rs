@@ -5,7 +5,7 @@
 //! Python").
 //!
 //! ```text
-//! cargo run --release -p framedyn --example scene_timing -- SCENE REPEATS [--sink memory|flat|both]
+//! cargo run --release -p framedyn-tests --example scene_timing -- SCENE REPEATS [--sink memory|flat|both]
 //! ```
 //!
 //! `SCENE` is a TOML/JSON scene file or the name of an embedded scene.

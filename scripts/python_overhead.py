@@ -12,7 +12,7 @@ Targets measured (benchmarks, not tests):
   (b) a 1000-trajectory batch scales >= 1.8x on 2 cores.
 
 Steps:
-1. `cargo build --release -p framedyn --example scene_timing` (the Rust side).
+1. `cargo build --release -p framedyn-tests --example scene_timing` (the Rust side).
 2. The Python extension must be an optimised build too. If the one this
    interpreter imports is a development build (`maturin develop`: it carries
    DWARF `.debug_info`, the mark of the dev profile), a release wheel is
@@ -413,9 +413,9 @@ def main():
 
     t_start = time.perf_counter()
     if not args.no_build:
-        run(["cargo", "build", "--release", "-p", "framedyn", "--example", "scene_timing"], cwd=ROOT)
+        run(["cargo", "build", "--release", "-p", "framedyn-tests", "--example", "scene_timing"], cwd=ROOT)
     if not os.path.exists(EXAMPLE):
-        sys.exit(f"{EXAMPLE} missing: build it with cargo build --release -p framedyn --example scene_timing")
+        sys.exit(f"{EXAMPLE} missing: build it with cargo build --release -p framedyn-tests --example scene_timing")
     origin, dev = installed_extension()
     passthrough = ["--rounds", str(args.rounds), "--repeats", str(args.repeats), "--batch-rounds", str(args.batch_rounds)]
     if origin is not None and (not dev or args.installed):

@@ -5,7 +5,7 @@
     python3 scripts/stability.py --quick    # smoke run (fewer settings, 1e5 long steps)
 
 Steps:
-1. `cargo run --profile measure -p framedyn --example stability -- --out docs/data` writes
+1. `cargo run --profile measure -p framedyn-tests --example stability -- --out docs/data` writes
    docs/data/stability_*.csv (largest stable steps, the pole trajectory, H²
    escape against the closed form, the affine-body collapse and bounce, and
    the long-time runs over 1e7 steps).
@@ -390,7 +390,7 @@ def main():
     t0 = time.time()
     if not args.summary_only:
         if not args.no_cargo:
-            cmd = ["cargo", "run", "--profile", "measure", "-p", "framedyn", "--example", "stability", "--", "--out", DATA]
+            cmd = ["cargo", "run", "--profile", "measure", "-p", "framedyn-tests", "--example", "stability", "--", "--out", DATA]
             if args.quick:
                 cmd.append("--quick")
             print("+", " ".join(cmd), flush=True)

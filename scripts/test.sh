@@ -47,7 +47,7 @@ export PYO3_ENVIRONMENT_SIGNATURE
 # once for the Rust tests, the examples and the Python extension (see
 # docs/development.md). Every cargo command selects the whole workspace with
 # its dev-dependencies (`--workspace` and test or example targets): a command
-# on one package (`cargo run -p framedyn --example ...`) resolves fewer
+# on one package (`cargo run -p framedyn-tests --example ...`) resolves fewer
 # features in shared dependencies and recompiles the core.
 cargo test --workspace --all-targets
 step "cargo test (build and run)"

@@ -326,7 +326,7 @@ def main():
         summary(rows)
         return 0
     if not args.no_cargo:
-        cmd = ["cargo", "run", "--profile", "measure", "-p", "framedyn", "--example", "work_precision", "--", "--out", DATA]
+        cmd = ["cargo", "run", "--profile", "measure", "-p", "framedyn-tests", "--example", "work_precision", "--", "--out", DATA]
         if args.quick:
             cmd.append("--quick")
         print("+", " ".join(cmd), flush=True)

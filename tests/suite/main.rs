@@ -15,6 +15,7 @@ mod dynamics_gyro;
 mod ensemble;
 mod hyperbolic;
 mod integrators;
+mod internals;
 mod matrix_groups;
 mod potentials;
 mod registry;

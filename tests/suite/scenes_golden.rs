@@ -10,7 +10,7 @@
 //! changes fails.
 //!
 //! To write the file anew (only for an intended change of the numbers, named
-//! in the commit message): `FRAMEDYN_BLESS_RECORDS=1 cargo test -p framedyn
+//! in the commit message): `FRAMEDYN_BLESS_RECORDS=1 cargo test --workspace
 //! --test suite scenes_golden`.
 
 use std::collections::BTreeMap;

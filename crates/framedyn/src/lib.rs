@@ -43,6 +43,12 @@ pub mod scenes;
 pub mod solve;
 pub mod testing;
 
+/// Internals checked by the core's tests (`tests/suite/internals/`); not
+/// public API.
+#[doc(hidden)]
+#[path = "internals.rs"]
+pub mod __internals;
+
 pub use error::{Error, Result};
 
 /// The README's Rust code blocks, run as doctests (never compiled otherwise).

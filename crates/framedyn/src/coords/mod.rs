@@ -47,7 +47,7 @@
 mod body;
 mod chart;
 mod fibre;
-mod series;
+pub(crate) mod series;
 mod state;
 
 pub use body::*;

@@ -15,38 +15,38 @@ use crate::potential::Scalar;
 pub(crate) const SERIES_MAX: f64 = 1.0;
 
 /// `(−1)^k/(2k+1)!`: `sin θ/θ`.
-const SINC: [f64; 11] = [
+pub const SINC: [f64; 11] = [
     1.0, -0.16666666666666666, 0.008333333333333333, -0.0001984126984126984, 2.7557319223985893e-06,
     -2.505210838544172e-08, 1.6059043836821613e-10, -7.647163731819816e-13, 2.8114572543455206e-15,
     -8.22063524662433e-18, 1.9572941063391263e-20,
 ];
 /// `(−1)^k/(2k)!`: `cos θ`.
-const COS: [f64; 12] = [
+pub const COS: [f64; 12] = [
     1.0, -0.5, 0.041666666666666664, -0.001388888888888889, 2.48015873015873e-05, -2.755731922398589e-07,
     2.08767569878681e-09, -1.1470745597729725e-11, 4.779477332387385e-14, -1.5619206968586225e-16,
     4.110317623312165e-19, -8.896791392450574e-22,
 ];
 /// `(cos θ − sin θ/θ)/θ²`.
-const DSINC: [f64; 11] = [
+pub const DSINC: [f64; 11] = [
     -0.3333333333333333, 0.03333333333333333, -0.0011904761904761906, 2.2045855379188714e-05,
     -2.505210838544172e-07, 1.9270852604185937e-09, -1.0706029224547743e-11, 4.498331606952833e-14,
     -1.4797143443923793e-16, 3.9145882126782523e-19, -8.509974375387505e-22,
 ];
 /// `(1 − cos θ·sin θ/θ)/θ²`.
-const SINCCOS_DEFECT: [f64; 13] = [
+pub const SINCCOS_DEFECT: [f64; 13] = [
     0.6666666666666666, -0.13333333333333333, 0.012698412698412698, -0.0007054673721340388,
     2.565335898669232e-05, -6.577784355562133e-07, 1.2529113058213587e-08, -1.8425166262078804e-10,
     2.1549902060910882e-12, -2.0523716248486557e-14, 1.622428161935696e-16, -1.0816187746237974e-18,
     6.163069940876338e-21,
 ];
 /// `(1 − (sin θ/θ)²)/θ²`.
-const SINC2_DEFECT: [f64; 12] = [
+pub const SINC2_DEFECT: [f64; 12] = [
     0.3333333333333333, -0.044444444444444446, 0.0031746031746031746, -0.00014109347442680775,
     4.275559831115387e-06, -9.39683479366019e-08, 1.5661391322766984e-09, -2.0472406957865337e-11,
     2.1549902060910883e-13, -1.8657923862260506e-15, 1.3520234682797467e-17, -8.320144420183057e-20,
 ];
 /// `(1 − θ cot θ)/θ²` = `Σ 2^{2k}|B_{2k}|/(2k)! θ^{2k−2}` (radius of convergence π²).
-const COT_DEFECT: [f64; 20] = [
+pub const COT_DEFECT: [f64; 20] = [
     0.3333333333333333, 0.022222222222222223, 0.0021164021164021165, 0.00021164021164021165,
     2.1377799155576935e-05, 2.1644042808063972e-06, 2.1925947851873778e-07, 2.2214608789979678e-08,
     2.2507846516808994e-09, 2.2805151204592183e-10, 2.3106432599002624e-11, 2.3411706819824882e-12,
@@ -54,7 +54,7 @@ const COT_DEFECT: [f64; 20] = [
     2.499967277122081e-17, 2.532996435740635e-18, 2.566461970282629e-19, 2.6003696460137274e-20,
 ];
 /// `(1 − cos θ)/θ²`.
-const VERSC: [f64; 11] = [
+pub const VERSC: [f64; 11] = [
     0.5, -0.041666666666666664, 0.001388888888888889, -2.48015873015873e-05, 2.755731922398589e-07,
     -2.08767569878681e-09, 1.1470745597729725e-11, -4.779477332387385e-14, 1.5619206968586225e-16,
     -4.110317623312165e-19, 8.896791392450574e-22,
@@ -66,7 +66,7 @@ const VERSC: [f64; 11] = [
 /// `≈ 4k²|c_{k+1}/c_k|·1e-20 < 1e-17` relative (one more factor `s` than the
 /// last kept term), so dual numbers up to second order stay exact.
 #[inline]
-fn horner<D: Scalar>(c: &[f64], s: D) -> D {
+pub fn horner<D: Scalar>(c: &[f64], s: D) -> D {
     let a = s.re().abs();
     let mut n = c.len();
     let mut pow = 1.0;
@@ -89,7 +89,7 @@ fn theta_sc<D: Scalar>(s: D) -> (D, D, D) {
 }
 
 /// `sin θ/θ`, `θ = √s`.
-pub(crate) fn sinc<D: Scalar>(s: D) -> D {
+pub fn sinc<D: Scalar>(s: D) -> D {
     if s.re() < SERIES_MAX {
         horner(&SINC, s)
     } else {
@@ -99,7 +99,7 @@ pub(crate) fn sinc<D: Scalar>(s: D) -> D {
 }
 
 /// `cos θ`, `θ = √s`.
-pub(crate) fn cos<D: Scalar>(s: D) -> D {
+pub fn cos<D: Scalar>(s: D) -> D {
     if s.re() < SERIES_MAX {
         horner(&COS, s)
     } else {
@@ -108,7 +108,7 @@ pub(crate) fn cos<D: Scalar>(s: D) -> D {
 }
 
 /// `(cos θ − sin θ/θ)/θ²` (`= 2·d(sinc)/ds`).
-pub(crate) fn dsinc<D: Scalar>(s: D) -> D {
+pub fn dsinc<D: Scalar>(s: D) -> D {
     if s.re() < SERIES_MAX {
         horner(&DSINC, s)
     } else {
@@ -118,7 +118,7 @@ pub(crate) fn dsinc<D: Scalar>(s: D) -> D {
 }
 
 /// `(1 − cos θ·sin θ/θ)/θ²`.
-pub(crate) fn sinccos_defect<D: Scalar>(s: D) -> D {
+pub fn sinccos_defect<D: Scalar>(s: D) -> D {
     if s.re() < SERIES_MAX {
         horner(&SINCCOS_DEFECT, s)
     } else {
@@ -128,7 +128,7 @@ pub(crate) fn sinccos_defect<D: Scalar>(s: D) -> D {
 }
 
 /// `(1 − (sin θ/θ)²)/θ²`.
-pub(crate) fn sinc2_defect<D: Scalar>(s: D) -> D {
+pub fn sinc2_defect<D: Scalar>(s: D) -> D {
     if s.re() < SERIES_MAX {
         horner(&SINC2_DEFECT, s)
     } else {
@@ -139,7 +139,7 @@ pub(crate) fn sinc2_defect<D: Scalar>(s: D) -> D {
 }
 
 /// `(1 − θ cot θ)/θ²` (pole at `θ = π`).
-pub(crate) fn cot_defect<D: Scalar>(s: D) -> D {
+pub fn cot_defect<D: Scalar>(s: D) -> D {
     if s.re() < SERIES_MAX {
         horner(&COT_DEFECT, s)
     } else {
@@ -149,74 +149,10 @@ pub(crate) fn cot_defect<D: Scalar>(s: D) -> D {
 }
 
 /// `(1 − cos θ)/θ²`.
-pub(crate) fn versc<D: Scalar>(s: D) -> D {
+pub fn versc<D: Scalar>(s: D) -> D {
     if s.re() < SERIES_MAX {
         horner(&VERSC, s)
     } else {
         (D::from(1.0) - s.sqrt().cos()) / s
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use num_dual::Dual2_64;
-
-    /// The truncated Horner sums equal the full ones in value, first and
-    /// second derivative to 1e-17 relative, at every scale of `s` from 1e-14
-    /// to the switch — derivatives along a coordinate `x` with `s = x²`, as
-    /// in the charts (`s = |r̄|²/R²`), where `d²f/dx² = 2f'(s) + 4s f''(s)`.
-    #[test]
-    fn truncation_keeps_derivatives_exact() {
-        let tables: [&[f64]; 7] = [&SINC, &COS, &DSINC, &SINCCOS_DEFECT, &SINC2_DEFECT, &COT_DEFECT, &VERSC];
-        for c in tables {
-            for s in [1e-14f64, 1e-10, 1e-7, 1e-4, 1e-2, 0.3, 0.99] {
-                let xs = Dual2_64::new(s.sqrt(), 1.0, 0.0);
-                let x = xs * xs;
-                let full = c.iter().rev().fold(Dual2_64::from_re(0.0), |acc, &ck| acc * x + ck);
-                let cut = horner(c, x);
-                let scale = c[0].abs();
-                assert!((full.re - cut.re).abs() <= 1e-17 * scale, "value at {s}");
-                assert!((full.v1 - cut.v1).abs() <= 1e-17 * scale, "first derivative at {s}");
-                assert!((full.v2 - cut.v2).abs() <= 1e-17 * scale, "second derivative at {s}");
-            }
-        }
-    }
-
-    /// Series and closed forms agree at the switch `s = 1` (both sides), and
-    /// the series match the closed forms where those are well conditioned.
-    /// Name, the implementation, and the closed form.
-    type Case = (&'static str, fn(f64) -> f64, fn(f64) -> f64);
-
-    #[test]
-    fn series_match_closed_forms() {
-        let closed: [Case; 7] = [
-            ("sinc", sinc::<f64>, |s| s.sqrt().sin() / s.sqrt()),
-            ("cos", cos::<f64>, |s| s.sqrt().cos()),
-            ("dsinc", dsinc::<f64>, |s| {
-                let t = s.sqrt();
-                (t.cos() - t.sin() / t) / s
-            }),
-            ("sinccos", sinccos_defect::<f64>, |s| {
-                let t = s.sqrt();
-                (1.0 - t.cos() * t.sin() / t) / s
-            }),
-            ("sinc2", sinc2_defect::<f64>, |s| {
-                let t = s.sqrt();
-                (1.0 - (t.sin() / t).powi(2)) / s
-            }),
-            ("cot", cot_defect::<f64>, |s| {
-                let t = s.sqrt();
-                (1.0 - t / t.tan()) / s
-            }),
-            ("versc", versc::<f64>, |s| (1.0 - s.sqrt().cos()) / s),
-        ];
-        for (name, f, c) in closed {
-            for s in [0.3, 0.6, 0.9, 0.999_999, 1.0, 1.000_001, 1.5] {
-                let (a, b) = (f(s), c(s));
-                // The closed forms cancel by up to ~10× at s = 0.3, so allow 1e-14.
-                assert!((a - b).abs() <= 1e-14 * b.abs(), "{name}({s}): {a} vs {b}");
-            }
-        }
     }
 }

@@ -16,7 +16,7 @@ pub(crate) fn offset_to_location(text: &str, offset: usize) -> Location {
 /// (`output.every`, `events[1].value`), from the nearest table header above
 /// it and the key before `=` on that line: for errors the TOML parser
 /// raises before any field is deserialised (an integer beyond 64 bits).
-pub(crate) fn toml_key_at(text: &str, offset: usize) -> Option<String> {
+pub fn toml_key_at(text: &str, offset: usize) -> Option<String> {
     let offset = floor_char_boundary(text, offset.min(text.len()));
     let line_start = text[..offset].rfind('\n').map_or(0, |i| i + 1);
     let line = text[line_start..].lines().next().unwrap_or("");
@@ -161,20 +161,4 @@ pub(crate) fn json_path(text: &str, path: &str) -> Option<Location> {
         }
     }
     found.map(|o| offset_to_location(text, o))
-}
-
-#[cfg(test)]
-mod key_tests {
-    use super::toml_key_at;
-
-    #[test]
-    fn keys_of_toml_lines() {
-        let text = "name = \"x\"\n[output]\nevery = 99999999999999999999\n[[events]]\nkind = \"plane\"\n[[events]]\nvalue = 1e999\n";
-        let at = |needle: &str| toml_key_at(text, text.find(needle).unwrap());
-        assert_eq!(at("9999").as_deref(), Some("output.every"));
-        assert_eq!(at("\"plane").as_deref(), Some("events[0].kind"));
-        assert_eq!(at("1e999").as_deref(), Some("events[1].value"));
-        assert_eq!(at("\"x").as_deref(), Some("name"));
-        assert_eq!(at("[output]"), None);
-    }
 }

@@ -126,7 +126,7 @@ mod events;
 mod examples;
 mod fields;
 mod initial;
-mod locate;
+pub(crate) mod locate;
 mod manifolds;
 mod observe;
 mod plan;

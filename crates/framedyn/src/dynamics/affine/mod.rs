@@ -138,7 +138,7 @@ mod constraint;
 // Deformation, defects and collapse.
 mod diagnostics;
 // The inertia `J` and the small-matrix helpers.
-mod inertia;
+pub(crate) mod inertia;
 // State, model, kinematics, forces, energies and the equations of motion.
 mod model;
 // Hypermomentum, spin, vorticity and the Noether charges.

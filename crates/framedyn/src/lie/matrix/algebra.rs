@@ -27,7 +27,7 @@ pub(crate) fn commutator<const N: usize>(a: &Mat<N>, b: &Mat<N>) -> Mat<N> {
 
 /// `(i, j)`, `i < j`, of the `k`-th so(n) basis element `E_ij − E_ji` in the
 /// lexicographic order (0,1), (0,2), …, (0,N−1), (1,2), …
-pub(crate) fn skew_index<const N: usize>(k: usize) -> (usize, usize) {
+pub fn skew_index<const N: usize>(k: usize) -> (usize, usize) {
     let mut k = k;
     for i in 0..N {
         let row = N - 1 - i;
@@ -37,15 +37,4 @@ pub(crate) fn skew_index<const N: usize>(k: usize) -> (usize, usize) {
         k -= row;
     }
     (N, N) // unreachable for k < N(N−1)/2; out of range for the caller
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn skew_index_enumerates_upper_triangle() {
-        let got: Vec<_> = (0..6).map(skew_index::<4>).collect();
-        assert_eq!(got, vec![(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)]);
-    }
 }

@@ -18,7 +18,7 @@ use super::Mat;
 /// coefficients `e_k` of `log(1 + x) − r_m(x)` (computed for this crate in
 /// 60-digit arithmetic and rounded down; close to the backward-error θ_m
 /// of [AH12, Table 2.1] for large m, smaller for small m).
-pub(crate) const LOG_THETA: [f64; 16] = [
+pub const LOG_THETA: [f64; 16] = [
     2.58e-8, 3.16e-4, 7.30e-3, 3.46e-2, 8.65e-2, 1.56e-1, 2.33e-1, 3.10e-1, 3.84e-1, 4.50e-1, 5.09e-1, 5.61e-1,
     6.07e-1, 6.46e-1, 6.81e-1, 7.11e-1,
 ];
@@ -26,7 +26,7 @@ pub(crate) const LOG_THETA: [f64; 16] = [
 /// Gauss–Legendre nodes and weights on [0, 1] for m = 1..=16 points:
 /// `GAUSS_LEGENDRE[m − 1][j] = (t_j, w_j)`, `j < m` (computed in 60-digit
 /// arithmetic, correctly rounded).
-pub(crate) const GAUSS_LEGENDRE: [[(f64, f64); 16]; 16] = [
+pub const GAUSS_LEGENDRE: [[(f64, f64); 16]; 16] = [
     [
         (0.5, 1.0),
         (0.0, 0.0),
@@ -320,7 +320,7 @@ pub(crate) const GAUSS_LEGENDRE: [[(f64, f64); 16]; 16] = [
 /// The [m/m] Padé approximant of `log(I + X)` in partial fractions \[H01\]:
 /// `r_m(X) = Σ_j w_j X (I + t_j X)⁻¹`, the m-point Gauss–Legendre rule for
 /// `log(I + X) = ∫₀¹ X (I + tX)⁻¹ dt`. `None` if some `I + t_j X` is singular.
-pub(crate) fn log1p_pade<const N: usize>(x: &Mat<N>, m: usize) -> Option<Mat<N>> {
+pub fn log1p_pade<const N: usize>(x: &Mat<N>, m: usize) -> Option<Mat<N>> {
     let id = Mat::<N>::identity();
     let mut sum = Mat::<N>::zeros();
     for &(t, w) in &GAUSS_LEGENDRE[m - 1][..m] {
@@ -328,47 +328,4 @@ pub(crate) fn log1p_pade<const N: usize>(x: &Mat<N>, m: usize) -> Option<Mat<N>>
         sum += lu.solve(x) * w;
     }
     Some(sum)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use nalgebra::SMatrix;
-
-    #[test]
-    fn gauss_legendre_rules_are_exact_for_polynomials() {
-        for m in 1..=16 {
-            let rule = &GAUSS_LEGENDRE[m - 1][..m];
-            for p in 0..2 * m {
-                let q: f64 = rule.iter().map(|&(t, w)| w * t.powi(p as i32)).sum();
-                let exact = 1.0 / (p + 1) as f64;
-                assert!((q - exact).abs() <= 4e-16, "m={m}, p={p}: {q} vs {exact}");
-            }
-        }
-    }
-
-    /// The θ_m of the log Padé approximants: forward error of r_m(x) for
-    /// complex x on the circle |x| = θ_m (2×2 real representation) ≤ 2ε.
-    #[test]
-    fn log_pade_thresholds() {
-        for m in 1..=16 {
-            let th = LOG_THETA[m - 1];
-            let mut worst: f64 = 0.0;
-            for k in 0..64 {
-                let ang = std::f64::consts::TAU * k as f64 / 64.0;
-                let (re, im) = (th * ang.cos(), th * ang.sin());
-                let x = SMatrix::<f64, 2, 2>::new(re, -im, im, re);
-                let l = log1p_pade(&x, m).unwrap();
-                let want_re = 0.5 * (2.0 * re + re * re + im * im).ln_1p();
-                let want_im = im.atan2(1.0 + re);
-                let err = ((l[(0, 0)] - want_re).powi(2) + (l[(1, 0)] - want_im).powi(2)).sqrt()
-                    / (want_re.powi(2) + want_im.powi(2)).sqrt();
-                worst = worst.max(err);
-            }
-            assert!(
-                worst <= 2.0 * f64::EPSILON,
-                "m={m}: relative error {worst:e} at |x| = θ_m"
-            );
-        }
-    }
 }

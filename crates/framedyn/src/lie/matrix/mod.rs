@@ -37,15 +37,15 @@
 // NaN-rejecting comparisons such as `!(x > 0.0)` are intentional here.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-mod algebra;
+pub(crate) mod algebra;
 mod dexp;
-mod expm;
-mod log_pade;
-mod logm;
-mod lu;
-mod norm;
+pub(crate) mod expm;
+pub(crate) mod log_pade;
+pub(crate) mod logm;
+pub(crate) mod lu;
+pub(crate) mod norm;
 mod polar;
-mod schur;
+pub(crate) mod schur;
 mod sqrtm;
 
 pub(crate) use algebra::{commutator, skew_index, skew_part, traceless_part};
@@ -59,22 +59,9 @@ pub(crate) use polar::{orthogonality_defect, polar_factor};
 use nalgebra::SMatrix;
 
 /// Square `N×N` matrix of `f64`, the storage of every general-`n` group here.
-pub(crate) type Mat<const N: usize> = SMatrix<f64, N, N>;
+pub type Mat<const N: usize> = SMatrix<f64, N, N>;
 
 /// A matrix of NaNs: the result of a matrix function at an invalid argument.
 pub(crate) fn nan_matrix<const N: usize>() -> Mat<N> {
     Mat::<N>::from_element(f64::NAN)
-}
-
-/// Uniform pseudo-random numbers in [−1, 1) (xorshift64) for the unit tests
-/// of the submodules.
-#[cfg(test)]
-fn xorshift(seed: u64) -> impl FnMut() -> f64 {
-    let mut s = seed;
-    move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
 }

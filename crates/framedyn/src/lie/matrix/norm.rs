@@ -6,14 +6,14 @@
 use super::Mat;
 
 /// Matrix 1-norm (largest absolute column sum).
-pub(crate) fn norm1<const N: usize>(m: &Mat<N>) -> f64 {
+pub fn norm1<const N: usize>(m: &Mat<N>) -> f64 {
     (0..N)
         .map(|j| (0..N).map(|i| m[(i, j)].abs()).sum::<f64>())
         .fold(0.0, f64::max)
 }
 
 /// Largest absolute entry.
-pub(crate) fn amax<const N: usize>(m: &Mat<N>) -> f64 {
+pub fn amax<const N: usize>(m: &Mat<N>) -> f64 {
     m.iter().fold(0.0, |a, x| a.max(x.abs()))
 }
 

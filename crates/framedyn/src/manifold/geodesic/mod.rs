@@ -8,7 +8,7 @@
 //! [`Torus2::geodesic_endpoint`](super::Torus2::geodesic_endpoint)); its
 //! Clairaut quadratures use the adaptive Gauss–Kronrod rule of `gauss_kronrod`.
 
-mod gauss_kronrod;
-mod torus2;
+pub(crate) mod gauss_kronrod;
+pub(crate) mod torus2;
 
 pub use torus2::TorusGeodesic;

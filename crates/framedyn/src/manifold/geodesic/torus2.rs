@@ -165,7 +165,7 @@ impl GeodesicDistance<2, 3> for Torus2 {
 // cancellation; ρ̃ = λ + cos θ = λ₁ + 2 cos²(θ/2)).
 
 /// Extrapolation-step tolerance of the accurate shots.
-const FINE_TOL: f64 = 1e-14;
+pub const FINE_TOL: f64 = 1e-14;
 /// Tolerance of the verification shot.
 const CHECK_TOL: f64 = 1e-15;
 /// Extrapolation-step tolerance while sampling and bracketing.
@@ -362,7 +362,7 @@ fn integrate<F: Fn(&State) -> State, C: Fn(&State) -> f64>(
 /// quarters (`cos θ ≥ 0`) the integrand is smooth in `θ`; on the inner ones,
 /// with `x = θ − (2k+1)π` and `sin(x/2) = √(δ/2) sinh u`, `ρ̃ − h = δ cosh² u`
 /// and `dθ/√(ρ̃ − h) = √2 du / cos(x/2)`: smooth in `u` however small `δ` is.
-fn clairaut_integrals(lm1: f64, delta: f64, a: f64, b: f64) -> Result<(f64, f64)> {
+pub fn clairaut_integrals(lm1: f64, delta: f64, a: f64, b: f64) -> Result<(f64, f64)> {
     let h = lm1 - delta;
     let mut cuts = vec![a];
     let mut k = (a / FRAC_PI_2).floor() + 1.0;
@@ -411,9 +411,16 @@ fn clairaut_integrals(lm1: f64, delta: f64, a: f64, b: f64) -> Result<(f64, f64)
 
 /// Outcome of a shot to the meridian `φ = Δφ`.
 #[derive(Clone, Copy, Debug)]
-enum Shot {
+pub enum Shot {
     /// Reached the meridian: end angle `theta`, `dtheta = dΘ/dparameter`, arc length.
-    Hit { theta: f64, dtheta: f64, length: f64 },
+    Hit {
+        /// End angle `Θ`.
+        theta: f64,
+        /// `dΘ/dparameter`.
+        dtheta: f64,
+        /// Arc length.
+        length: f64,
+    },
     /// Left the window `θ > hi` before reaching the meridian.
     Above,
     /// Left the window `θ < lo` before reaching the meridian.
@@ -433,7 +440,7 @@ impl Shot {
 
 /// A family of initial directions at `θ₁` for shooting.
 #[derive(Clone, Copy, Debug)]
-enum Family {
+pub enum Family {
     /// Angle `ε` from the meridian, heading up: `θ' = cos ε`, `h = ρ̃₁ sin ε`.
     Up,
     /// Angle `ε` from the meridian, heading down: `θ' = −cos ε`.
@@ -480,20 +487,26 @@ impl Candidate {
 /// The target of the shooting problem (units of `R`): start angle, meridian
 /// `Δφ` to reach and the window outside which shots are abandoned.
 #[derive(Clone, Copy)]
-struct Target {
-    th1: f64,
-    dphi: f64,
-    lo: f64,
-    hi: f64,
+pub struct Target {
+    /// Start angle `θ₁`.
+    pub th1: f64,
+    /// The meridian to reach, `φ = Δφ`.
+    pub dphi: f64,
+    /// Lower end of the window.
+    pub lo: f64,
+    /// Upper end of the window.
+    pub hi: f64,
 }
 
 /// The minimal-geodesic solver for `lm1 = (L − R)/R`.
-struct Shooter {
-    lm1: f64,
+pub struct Shooter {
+    /// `(L − R)/R`.
+    pub lm1: f64,
 }
 
 impl Shooter {
-    fn rho(&self, theta: f64) -> f64 {
+    /// `ρ(θ)/R` at `θ`.
+    pub fn rho(&self, theta: f64) -> f64 {
         rho_sin_cos(self.lm1, theta).0
     }
 
@@ -512,7 +525,7 @@ impl Shooter {
     /// Shoots the family member `param` to the meridian `φ = Δφ`, giving up
     /// when `θ` leaves the window. The step that would cross the meridian is
     /// replaced by one integrated in `φ`, which lands on it exactly.
-    fn shoot(&self, tg: &Target, family: Family, param: f64, tol: f64) -> Result<Shot> {
+    pub fn shoot(&self, tg: &Target, family: Family, param: f64, tol: f64) -> Result<Shot> {
         let (ray, mut y) = self.start(tg.th1, family, param);
         let f = |y: &State| ray.rhs(y);
         let h0 = initial_step(self.lm1);
@@ -968,56 +981,4 @@ fn hermite_mid(a: &Sample, b: &Sample) -> (f64, f64) {
     let v = 0.5 * (a.v + b.v) + 0.125 * dt * (a.d - b.d);
     let d = 1.5 * (b.v - a.v) / dt - 0.25 * (a.d + b.d);
     (v, d)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// h = 0 (δ = λ₁): the meridian, Δφ = 0 and s = |Δθ|.
-    #[test]
-    fn clairaut_meridian_limit() {
-        for lm1 in [0.05, 1.0, 9.0] {
-            let (dphi, s) = clairaut_integrals(lm1, lm1, -2.0, 5.5).unwrap();
-            assert_eq!(dphi, 0.0);
-            assert!((s - 7.5).abs() < 1e-14, "{s}");
-        }
-    }
-
-    /// The quadratures agree with the shooting integrator on wrapping
-    /// geodesics, including ones that thread the neck of a thin torus.
-    #[test]
-    fn clairaut_agrees_with_shooting() {
-        for (lm1, th1, eps, dphi) in [(1.0, 0.3, 0.2, 0.8), (0.05, 2.0, 0.01, 0.3), (9.0, -1.0, 0.5, 0.2), (0.2, -2.8, 0.05, 0.25)] {
-            let sh = Shooter { lm1 };
-            let tg = Target { th1, dphi, lo: th1 - 20.0, hi: th1 + 20.0 };
-            let Shot::Hit { theta, length, .. } = sh.shoot(&tg, Family::Up, eps, FINE_TOL).unwrap() else {
-                panic!("shot escaped")
-            };
-            let h = sh.rho(th1) * eps.sin();
-            assert!(h < lm1, "not a wrapping geodesic");
-            let (q_dphi, q_len) = clairaut_integrals(lm1, lm1 - h, th1, theta).unwrap();
-            assert!((q_dphi - dphi).abs() < 1e-11, "λ₁ = {lm1}: Δφ {q_dphi} vs {dphi}");
-            assert!((q_len - length).abs() < 1e-11 * length, "λ₁ = {lm1}: s {q_len} vs {length}");
-        }
-    }
-
-    /// Near the separatrix (δ → 0) the φ-advance across the inner equator
-    /// diverges like ln(1/δ) but stays finite and accurate for any δ > 0.
-    #[test]
-    fn clairaut_near_separatrix() {
-        let lm1 = 0.5;
-        let mut prev = 0.0;
-        for e in [2, 10, 50, 150, 300] {
-            let delta = 10f64.powi(-e);
-            let (dphi, s) = clairaut_integrals(lm1, delta, 2.0, 4.0).unwrap();
-            assert!(dphi.is_finite() && s.is_finite() && dphi > prev, "δ = 1e-{e}: {dphi}");
-            prev = dphi;
-        }
-        // Per decade of δ the advance grows by ln(10)/√(2(λ₁+1)·...) ≈ constant.
-        let d1 = clairaut_integrals(lm1, 1e-100, 2.0, 4.0).unwrap().0;
-        let d2 = clairaut_integrals(lm1, 1e-200, 2.0, 4.0).unwrap().0;
-        let d3 = clairaut_integrals(lm1, 1e-300, 2.0, 4.0).unwrap().0;
-        assert!(((d3 - d2) - (d2 - d1)).abs() < 1e-10 * (d2 - d1), "{d1} {d2} {d3}");
-    }
 }
