@@ -12,6 +12,7 @@ mod crosscheck;
 mod crosscheck_affine;
 mod dynamics_affine;
 mod dynamics_gyro;
+mod adaptive;
 mod ensemble;
 mod hyperbolic;
 mod integrators;

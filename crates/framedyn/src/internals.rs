@@ -19,6 +19,7 @@ pub use crate::lie::matrix::Mat;
 pub use crate::manifold::geodesic::gauss_kronrod::{gauss_kronrod, WG, WGK};
 pub use crate::manifold::geodesic::torus2::{clairaut_integrals, Family, Shooter, Shot, Target, FINE_TOL};
 pub use crate::scenes::locate::toml_key_at;
+pub use crate::solve::adaptive::error_norm;
 
 /// The truncated Taylor series of the coordinate charts (`coords`).
 pub mod series {

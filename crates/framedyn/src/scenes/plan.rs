@@ -82,11 +82,15 @@ impl Scene {
             }
             let rtol = m.rtol.unwrap_or(1e-8);
             let atol = m.atol.unwrap_or(1e-10);
-            if !(rtol.is_finite() && rtol >= 0.0) {
-                return Err(SceneError::invalid("method.rtol", rtol, "must be finite and ≥ 0"));
+            if !(rtol.is_finite() && rtol >= crate::solve::RTOL_MIN) {
+                return Err(SceneError::invalid(
+                    "method.rtol",
+                    rtol,
+                    "must be finite and ≥ 1e-14 (below it the local error estimate is round-off and the step underflows)",
+                ));
             }
-            if !(atol.is_finite() && atol >= 0.0 && atol + rtol > 0.0) {
-                return Err(SceneError::invalid("method.atol", atol, "must be finite and ≥ 0, with rtol + atol > 0"));
+            if !(atol.is_finite() && atol > 0.0) {
+                return Err(SceneError::invalid("method.atol", atol, "must be finite and > 0"));
             }
             StepSize::Adaptive(Adaptive::new(rtol, atol))
         } else {

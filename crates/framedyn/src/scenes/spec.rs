@@ -406,10 +406,13 @@ pub struct MethodSpec {
     /// Fixed step size (upper bound; the span is split into equal steps).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub h: Option<f64>,
-    /// Relative tolerance (adaptive methods).
+    /// Relative tolerance (adaptive methods; default 1e-8), finite and
+    /// `≥ 1e-14`. A bound on each step's local error, not on the run's
+    /// global error: see [`Adaptive`](crate::solve::Adaptive) and
+    /// `docs/performance.md`, "Tolerance proportionality".
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rtol: Option<f64>,
-    /// Absolute tolerance (adaptive methods).
+    /// Absolute tolerance (adaptive methods; default 1e-10), finite and `> 0`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub atol: Option<f64>,
     /// Limit on the number of accepted steps (default 10⁹).

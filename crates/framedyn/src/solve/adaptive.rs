@@ -1,7 +1,7 @@
 //! Adaptive stepping: error norm, controller and first-step selection
 //! (see [`Adaptive`] for the definitions).
 
-use super::{tol_vector, Adaptive, SolveError, Stats};
+use super::{Adaptive, SolveError, Stats, RTOL_MIN};
 use crate::dynamics::System;
 use crate::lie::{dexp_inv_series, AlgebraVector, LieGroup};
 use crate::method::{GroupNumerics, MethodInfo};
@@ -28,17 +28,14 @@ pub(super) fn validate<G: LieGroup>(a: &Adaptive, info: &MethodInfo) -> Result<(
             }
         };
         for v in values {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(SolveError::InvalidParameter { field: name, value: v, allowed: "finite and ≥ 0" });
+            let (ok, allowed) = if name == "rtol" {
+                (v.is_finite() && v >= RTOL_MIN, "finite and ≥ 1e-14 (below it the local error estimate is round-off and the step underflows)")
+            } else {
+                (v.is_finite() && v > 0.0, "finite and > 0")
+            };
+            if !ok {
+                return Err(SolveError::InvalidParameter { field: name, value: v, allowed });
             }
-        }
-    }
-    let (r, at) = (tol_vector::<G::Algebra>(&a.rtol), tol_vector::<G::Algebra>(&a.atol));
-    for i in 0..len {
-        if r.get(i) + at.get(i) <= 0.0 {
-            return Err(SolveError::InvalidOptions {
-                reason: format!("component {i}: atol + rtol must be > 0"),
-            });
         }
     }
     if let Some(h0) = a.h0 {
@@ -67,23 +64,45 @@ pub(super) fn validate<G: LieGroup>(a: &Adaptive, info: &MethodInfo) -> Result<(
     Ok(())
 }
 
-/// `√(Σᵢ (eᵢ/scᵢ)²/LEN)` with `scᵢ = atolᵢ + rtolᵢ·max(s0ᵢ, s1ᵢ)`.
+/// `maxᵢ |eᵢ|/scᵢ` with `scᵢ = atolᵢ + rtolᵢ·max(s0ᵢ, s1ᵢ)`: a step passes
+/// (`≤ 1`) only if every component's local error is within its own
+/// tolerance. (A root-mean-square over the `LEN` components would let one
+/// component's error reach `√LEN` times its tolerance, so that the same
+/// `tol` meant a different accuracy for a point, `LEN = 5`, and an affine
+/// body, `LEN = 13`.) NaN if any component is NaN.
 #[inline]
-pub(crate) fn error_norm<A: AlgebraVector>(e: &A, s0: &A, s1: &A, atol: &A, rtol: &A) -> f64 {
-    let mut sum = 0.0;
+pub fn error_norm<A: AlgebraVector>(e: &A, s0: &A, s1: &A, atol: &A, rtol: &A) -> f64 {
+    let mut m = 0.0f64;
     for i in 0..A::LEN {
         let sc = atol.get(i) + rtol.get(i) * s0.get(i).max(s1.get(i));
-        let q = e.get(i) / sc;
-        sum += q * q;
+        let q = (e.get(i) / sc).abs();
+        if q.is_nan() {
+            return f64::NAN;
+        }
+        m = m.max(q);
     }
-    (sum / A::LEN as f64).sqrt()
+    m
+}
+
+/// The smallest step the driver takes away from `t_end`: `max(h_min,
+/// 16ε·max(|t|, |t_end|))`. Relative to the size of the span's times, so that
+/// a run starting at `t = 0` cannot shrink its step to zero either.
+#[inline]
+pub(super) fn min_step(h_min: f64, t: f64, t_end: f64) -> f64 {
+    h_min.max(16.0 * f64::EPSILON * t.abs().max(t_end.abs()))
 }
 
 /// First step after \[HNW93\] §II.4 ("Starting step size"), in the algebra:
 /// `d₀ = ‖s(y₀)‖`, `d₁ = ‖f₀‖` in the scaled norm; `h = 0.01·d₀/d₁`; one
 /// Lie–Euler step `y₁ = y₀·exp(h f₀)` gives `d₂ = ‖dexp⁻¹_{−hf₀}f(t₀+h, y₁) − f₀‖/h`;
 /// `h₁ = (0.01/max(d₁, d₂))^{1/(q+1)}`; the result is `min(100h, h₁, h_max)`,
-/// and `|h|·ρ(ad f₀)` at most half the radius guard.
+/// and `|h|·ρ(ad f₀)` at most half the radius guard. The norm is the
+/// driver's ([`error_norm`]).
+///
+/// Fails with an error naming `atol` when the step it finds is below
+/// [`min_step`] (`h_floor`): with `rtol ≥ 1e-14` ([`validate`]) that happens
+/// when an absolute tolerance is so small that a component which is zero at
+/// `t₀` (so only `atol` scales it) forces a step that underflows.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn initial_step<S>(
     sys: &S,
@@ -95,9 +114,10 @@ pub(super) fn initial_step<S>(
     atol: &<S::State as LieGroup>::Algebra,
     rtol: &<S::State as LieGroup>::Algebra,
     h_max: f64,
+    h_floor: f64,
     q: u32,
     stats: &mut Stats,
-) -> f64
+) -> Result<f64, SolveError>
 where
     S: System,
     S::State: GroupNumerics,
@@ -118,14 +138,26 @@ where
     let f1 = sys.vector_field(t0 + h * dir, &y1);
     stats.rhs_evals += 1;
     stats.exps += 1;
+    let underflow = |h: f64| -> Result<f64, SolveError> {
+        if h >= h_floor {
+            return Ok(h);
+        }
+        let smallest = (0..<<S::State as LieGroup>::Algebra as AlgebraVector>::LEN).map(|i| atol.get(i)).fold(f64::INFINITY, f64::min);
+        Err(SolveError::InvalidParameter {
+            field: "atol",
+            value: smallest,
+            allowed: "large enough that the first step does not underflow (a component that is zero at t0 is scaled by atol alone)",
+        })
+    };
     if !f1.is_finite() {
         // The trial step left the domain of f: start far more cautiously.
-        return (h * 1e-3).max(f64::MIN_POSITIVE);
+        return underflow((h * 1e-3).max(f64::MIN_POSITIVE));
     }
     stats.brackets += 2;
     let slope = dexp_inv_series::<S::State>(&(-th), &f1, 2);
     let d2 = error_norm(&(slope - *f0), &s0, &s0, atol, rtol) / h;
     let dmax = d1.max(d2);
     let h1 = if dmax <= 1e-15 { (h * 1e-3).max(1e-6) } else { (0.01 / dmax).powf(1.0 / (q as f64 + 1.0)) };
-    (100.0 * h).min(h1).min(h_max)
+    underflow((100.0 * h).min(h1).min(h_max))
 }
+

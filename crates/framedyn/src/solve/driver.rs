@@ -468,7 +468,10 @@ where
         }
         let mut h = match a.h0 {
             Some(h0) => h0.min(h_max),
-            None => adaptive::initial_step(self.sys, &self.info, self.t0, &self.y, dir, &f0, &atol, &rtol, h_max, q, &mut self.stats),
+            None => {
+                let floor = adaptive::min_step(a.h_min, self.t0, self.t_end);
+                adaptive::initial_step(self.sys, &self.info, self.t0, &self.y, dir, &f0, &atol, &rtol, h_max, floor, q, &mut self.stats)?
+            }
         } * dir;
         let mut f_cache = Some(f0);
         let mut err_prev: f64 = 1e-4;
@@ -482,7 +485,7 @@ where
             if self.stats.accepted >= self.set.max_steps {
                 return Err(SolveError::MaxSteps { t, h, max_steps: self.set.max_steps }.into());
             }
-            let h_min = a.h_min.max(16.0 * f64::EPSILON * t.abs());
+            let h_min = adaptive::min_step(a.h_min, t, self.t_end);
             let mut t1 = t + h;
             if (t1 - self.t_end) * dir >= 0.0 {
                 h = remaining;

@@ -53,7 +53,7 @@ pub enum SolveError {
         t: f64,
         /// The step the controller asked for.
         h: f64,
-        /// The effective minimum `max(h_min, 16ε|t|)`.
+        /// The effective minimum `max(h_min, 16ε·max(|t|, |t_end|))`.
         h_min: f64,
     },
     /// The maximum number of steps was reached before `t_end`.

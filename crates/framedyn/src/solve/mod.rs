@@ -26,7 +26,7 @@
 //! a [`Failure`] together with the solution computed so far. [`Stepper`]
 //! advances a state one step at a time for interactive use.
 
-mod adaptive;
+pub(crate) mod adaptive;
 pub mod driver;
 mod error;
 pub mod event;
@@ -38,7 +38,7 @@ mod stepper;
 pub use driver::{drive, fixed_step_count, Control, DriveError, EventSet, Outcome, Settings, Sink, StepSegment, POLL_EVERY};
 pub use error::{Failure, SolveError};
 pub use event::{Direction, Event, EventRecord};
-pub use options::{Adaptive, Controller, ObserverFn, Options, Save, StepSize, Tol, DEFAULT_MAX_STEPS};
+pub use options::{Adaptive, Controller, ObserverFn, Options, Save, StepSize, Tol, DEFAULT_MAX_STEPS, RTOL_MIN};
 pub use problem::{state_is_finite, Problem};
 pub use solution::{DenseSegment, InvariantSeries, Solution, StopReason, Stats};
 pub use stepper::Stepper;

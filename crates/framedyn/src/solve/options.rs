@@ -91,13 +91,28 @@ impl Default for Controller {
 /// error of the group element (a rotation angle on SO(n)) — the
 /// per-component scale is
 /// `scᵢ = atolᵢ + rtolᵢ·max(sᵢ(y₀), sᵢ(y₁))`
-/// and `err = √(Σᵢ (eᵢ/scᵢ)²/LEN)` over the `LEN` stored components. A step
-/// is accepted iff `err ≤ 1`. So `atol` is an absolute error in algebra
+/// and `err = maxᵢ |eᵢ|/scᵢ` over the `LEN` stored components. A step is
+/// accepted iff `err ≤ 1`, i.e. iff *every* component's local error is
+/// within its tolerance. So `atol` is an absolute error in algebra
 /// coordinates and `rtol` an error relative to the size of additive
 /// coordinates and relative to the group element otherwise. Per-component
 /// tolerances ([`Tol::PerComponent`]) follow the stored components of the
 /// algebra ([`AlgebraVector::get`](crate::lie::AlgebraVector::get)), e.g. for
 /// `SO(3) × ℝ³` the three rotation angles, then the three momenta.
+///
+/// These are the variables in which a run's error is measured, or bound
+/// them: for the models of [`dynamics`](crate::dynamics) the state is
+/// `(g, ρ, u, π)` — the frame-bundle element `g`, whose rotation angles move
+/// the embedded position by `R·angle` and turn the frame by `angle`, the
+/// internal configuration `ρ` (relative, like `g`), the velocity `u` in the
+/// frame and the internal momenta `π` (absolute/relative per component) —
+/// and the embedded velocity `ẋ = q·u` has error at most `|δu| + |u|·|δq|`,
+/// both terms controlled.
+///
+/// The maximum, not the root-mean-square `√(Σᵢ (eᵢ/scᵢ)²/LEN)` of the codes
+/// of \[HNW93\] and SciPy: the mean would let one component's error reach
+/// `√LEN` times its tolerance, so that the same `tol` meant a different
+/// accuracy for a point on S² (`LEN = 5`) and an affine body (`LEN = 13`).
 ///
 /// **Estimates.** DOPRI5 ([`Rkmk::dopri5`](crate::method::Rkmk::dopri5)):
 /// `e = Θ₅ − Θ₄`, the error of the fourth-order solution, while the
@@ -105,46 +120,43 @@ impl Default for Controller {
 /// ([`Rkmk::dop853`](crate::method::Rkmk::dop853)): Hairer's combined
 /// estimate `‖e₅‖²/√(‖e₅‖² + 0.01‖e₃‖²)` of its embedded fifth- and
 /// third-order solutions, `O(h⁸)`, with the eighth-order solution propagated
-/// (the ratio inside is taken with the weights `1/(1 + max(sᵢ(y₀), sᵢ(y₁)))`,
-/// which is the code's norm exactly when `atol = rtol` are scalars).
+/// (the ratio inside is taken with the weights `1/(1 + max(sᵢ(y₀), sᵢ(y₁)))`
+/// in the root-mean-square, which matches the driver's scale when
+/// `atol = rtol` are scalars; it only decides how much of `e₅` counts).
 ///
 /// **What the tolerance means.** `err ≤ 1` is a criterion *per step* on the
 /// local error, as in the codes DOPRI5/DOP853 \[HNW93\] and SciPy; the
 /// global error at `t_end` is the sum of the local errors carried along by
 /// the flow, so it grows with the number of steps and with the flow's
 /// amplification of perturbations, and no step-size controller bounds it by
-/// `tol` alone. Measured at T = 10 in this norm (rtol = atol = tol,
-/// `cargo test --test suite adaptive -- --nocapture`; reference RKMK6 with
-/// 20000 steps): **DOP853 keeps the global error ≤ 10 × tol on every
-/// reference trajectory of the test suite** (rigid body, GL⁺(2) flow, H²
-/// oscillator, gyroscopes on S², H², T², S³, affine bodies on S² and H²;
-/// worst 8.1 × tol, on the T² gyroscope at tol 1e-8;
-/// tol down to 1e-10), so it is the adaptive method to use when `tol` is
-/// read as a bound on the global error. DOPRI5 does so on the rigid body, the
-/// GL⁺(2) flow, the H² oscillator, the S³ gyroscope and the affine bodies,
-/// but not on the S² and T² gyroscopes, whose flows amplify perturbations
-/// 44–67× over T = 10 and where its error is 14–117 × tol although its
-/// estimate is asymptotically exact (`embedded_error_estimate_is_asymptotically_exact`):
-/// its propagated solution's local error is 0.02–0.2 × the estimate, but it
-/// takes about 3× more steps than DOP853 (rigid body, tol 1e-8: 62 vs 19),
-/// so the excess is accumulation. With
-/// DOPRI5, divide `tol` by the expected amplification of the problem.
+/// `tol` alone. What it is on measured problems — proportional to `tol`,
+/// within 20 × tol (DOP853) and 50 × tol (DOPRI5) on flows that do not
+/// amplify errors strongly, and orders of magnitude above `tol` at sharp
+/// Kepler pericentre passages — is in `docs/performance.md` ("Tolerance
+/// proportionality"), measured by `scripts/tolerance_proportionality.py`;
+/// a scene can ask for an estimate of its global error (`[method]
+/// global_error = true`).
 ///
-/// **Minimum step.** A step smaller than `max(h_min, 16ε|t|)` (other than a
-/// final step that reaches `t_end`) is a
+/// **Tolerance limits.** `rtol ≥` [`RTOL_MIN`] `= 1e-14` (below it the
+/// error estimate is round-off) and `atol > 0`, both finite; an `atol` so
+/// small that the first step underflows (a component that is zero at `t₀`
+/// is scaled by `atol` alone) is an error naming `atol`.
+///
+/// **Minimum step.** A step smaller than `max(h_min, 16ε·max(|t|, |t_end|))`
+/// (other than a final step that reaches `t_end`) is a
 /// [`StepSizeTooSmall`](super::SolveError::StepSizeTooSmall) error, never a
 /// silent acceptance.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Adaptive {
-    /// Relative tolerance(s), `≥ 0`.
+    /// Relative tolerance(s), finite and `≥` [`RTOL_MIN`].
     pub rtol: Tol,
-    /// Absolute tolerance(s), `≥ 0`; `atolᵢ + rtolᵢ > 0` for every component.
+    /// Absolute tolerance(s), finite and `> 0`.
     pub atol: Tol,
     /// First step `|h₀|`; `None` selects it as in \[HNW93\] §II.4 (with an
     /// explicit Lie–Euler trial step, and `|h₀|·ρ(ad f₀)` at most half the
     /// radius guard).
     pub h0: Option<f64>,
-    /// Smallest allowed `|h|` (the effective minimum is `max(h_min, 16ε|t|)`).
+    /// Smallest allowed `|h|` (the effective minimum is `max(h_min, 16ε·max(|t|, |t_end|))`).
     pub h_min: f64,
     /// Largest allowed `|h|` (`∞`: the span).
     pub h_max: f64,
@@ -208,6 +220,11 @@ impl<G: LieGroup> fmt::Debug for Options<G> {
             .finish()
     }
 }
+
+/// The smallest relative tolerance, `1e-14` (≈ 45ε): below it the local
+/// error estimate of a step is round-off, and the controller would shrink the
+/// step until it underflows.
+pub const RTOL_MIN: f64 = 1e-14;
 
 /// Default limit on the number of accepted steps.
 pub const DEFAULT_MAX_STEPS: usize = 1_000_000;
