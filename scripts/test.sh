@@ -49,24 +49,25 @@ export PYO3_ENVIRONMENT_SIGNATURE
 # its dev-dependencies (`--workspace` and test or example targets): a command
 # on one package (`cargo run -p framedyn-tests --example ...`) resolves fewer
 # features in shared dependencies and recompiles the core.
+# The core library has no unit-test binary (`test = false`; its internals
+# are tested in tests/suite/internals/): a `#[cfg(test)]` there would never
+# be compiled, so its tests would silently not run.
+if grep -rln --include='*.rs' -e '#\[cfg(test)\]' -e '#\[test\]' crates/framedyn/src; then
+    echo "the files above hold tests inside the core library, which has no test binary:" >&2
+    echo "move them to tests/suite/internals/ (docs/development.md, \"Why the core has no unit-test binary\")" >&2
+    exit 1
+fi
 cargo test --workspace --all-targets
 step "cargo test (build and run)"
 cargo test --workspace --doc
 step "doctests"
-# The API docs build without warnings (broken intra-doc links, missing docs).
-RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
-step "cargo doc"
 # The examples compare what they measure with the paper's closed forms and
 # exit with status 1 on a mismatch. `cargo test` compiles them only as test
-# harnesses (no `main`); this builds the programs themselves.
+# harnesses (no `main`); this builds the programs themselves (run below).
 examples=(transport_through_pole s2_bodies h2_bodies t2_bodies s3_bodies potential_families user_potential)
 target_dir="${CARGO_TARGET_DIR:-target}"
 cargo build --quiet --workspace "${examples[@]/#/--example=}"
-for example in "${examples[@]}"; do
-    echo "example $example"
-    "$target_dir/debug/examples/$example"
-done
-step "examples (build and run)"
+step "examples (build)"
 
 # maturin builds the extension crate alone; crates/framedyn-py/Cargo.toml
 # pins the features that the workspace build turns on, so that the core's
@@ -74,7 +75,9 @@ step "examples (build and run)"
 # If a dependency update breaks that, say so instead of silently doubling
 # the build time.
 stamp="$(mktemp)"
-trap 'rm -f "$stamp"' EXIT
+doc_log="$(mktemp)"
+doc_pid=""
+trap 'rm -f "$stamp" "$doc_log"; if [ -n "$doc_pid" ]; then kill "$doc_pid" 2>/dev/null || true; fi' EXIT
 # The extension is an abi3 module (_framedyn.abi3.so); a version-specific
 # one left by a build before the switch would shadow it on import.
 rm -f python/framedyn/_framedyn.cpython-*.so
@@ -86,6 +89,33 @@ if [ -n "$(find "$target_dir/debug/deps" -maxdepth 1 -name 'libframedyn-*.rlib' 
     exit 1
 fi
 step "maturin develop"
+
+# The API docs build without warnings (broken intra-doc links, missing
+# docs). The last cargo command: it runs in the background, beside the
+# examples and pytest, which need no cargo (docs/development.md, "The two
+# commands"); its output is printed when it ends.
+(
+    doc_start=$SECONDS
+    RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
+    echo "[test.sh] cargo doc (beside the examples and pytest): $((SECONDS - doc_start)) s"
+) >"$doc_log" 2>&1 &
+doc_pid=$!
+
+for example in "${examples[@]}"; do
+    echo "example $example"
+    "$target_dir/debug/examples/$example"
+done
+step "examples (run)"
 # The Agg backend: the plotting tests draw without a display.
 MPLBACKEND=Agg "$PY" -m pytest python/tests -q
 step "pytest"
+
+doc_status=0
+wait "$doc_pid" || doc_status=$?
+doc_pid=""
+cat "$doc_log"
+if [ "$doc_status" -ne 0 ]; then
+    echo "cargo doc failed (exit status $doc_status): see above" >&2
+    exit "$doc_status"
+fi
+step "waiting for cargo doc"

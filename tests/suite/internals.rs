@@ -1,7 +1,7 @@
 //! Tests of the core's internals (numerical kernels, parsing helpers), through
 //! the hidden `framedyn::__internals` module: the library has no unit-test
 //! binary of its own, which would compile the whole core a second time
-//! (docs/development.md, "How the build is organised").
+//! (docs/development.md, "Why the core has no unit-test binary").
 
 mod affine_inertia;
 mod body;

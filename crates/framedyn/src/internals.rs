@@ -5,7 +5,7 @@
 //! Not public API: hidden from the documentation, no stability promise.
 //! The tests live in the integration suite (`tests/suite/internals/`)
 //! because a unit-test binary of the library would compile the whole core
-//! a second time (docs/development.md, "How the build is organised").
+//! a second time (docs/development.md, "Why the core has no unit-test binary").
 
 pub use crate::dynamics::affine::inertia::{inverse as matrix_inverse, trace_of_product};
 pub use crate::lie::matrix::algebra::skew_index;
