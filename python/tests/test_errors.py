@@ -156,3 +156,14 @@ def test_integer_arguments_are_bounded_with_a_named_range():
     st.advance(0.01, 0)
     assert st.t == pytest.approx(0.03)
     assert scene.with_params({"output.every": 2**64 - 1}).validate() is not None
+
+
+@pytest.mark.parametrize(
+    "rtol, atol, field",
+    [(1e-300, 1e-300, "method.rtol"), (0.0, 1e-8, "method.rtol"), (float("nan"), 1e-8, "method.rtol"),
+     (1e-8, 0.0, "method.atol"), (1e-8, -1e-8, "method.atol"), (1e-8, float("inf"), "method.atol")],
+)
+def test_tolerances_out_of_range_name_the_field(rtol, atol, field):
+    scene = fd.Scene.example("s2-gyroscope-pole")
+    with pytest.raises(ValueError, match=field.replace(".", r"\.")):
+        fd.solve(scene.replace(method={"name": "dop853", "rtol": rtol, "atol": atol}))

@@ -357,3 +357,24 @@ def test_quality_warning_on_a_crude_run():
         warnings.simplefilter("error", fd.QualityWarning)
         assert fd.solve(d).stats["warnings"] == []
     assert fd.solve(fd.Scene.example("s2-gyroscope-pole")).stats["warnings"] == []
+
+
+def test_global_error_estimate_only_when_asked():
+    """`global_error=True` puts an estimate of the run's error into the stats
+    (max over the records, and at the last one), within a factor 3 of the
+    error against a fixed-step reference; without it there is none and the
+    run is the same."""
+    kw = dict(manifold="H2", body={"kind": "gyroscope", "inertia": 0.2}, potential={"kind": "kepler", "alpha": 1.0},
+              r=1.0, phi=0.0, r_dot=0.0, phi_dot=0.3, spin=0.1, t_end=8.0, samples=81)
+    ref = fd.solve(fd.Scene(**kw, method="dop853", h=1e-4))
+    plain = fd.solve(fd.Scene(**kw, method="dop853", rtol=1e-8, atol=1e-8))
+    sol = fd.solve(fd.Scene(**kw, method="dop853", rtol=1e-8, atol=1e-8, global_error=True))
+    assert "global_error" not in plain.stats
+    np.testing.assert_array_equal(plain.data, sol.data)
+    rel = lambda a, b: np.linalg.norm(a - b, axis=-1) / (1 + np.linalg.norm(b, axis=-1))
+    err = np.max([rel(sol.position, ref.position), rel(sol.velocity, ref.velocity),
+                  rel(sol.frame[:, 0], ref.frame[:, 0]), rel(sol.frame[:, 1], ref.frame[:, 1]),
+                  np.abs(sol.momenta["spin"] - ref.momenta["spin"]) / (1 + np.abs(ref.momenta["spin"]))], axis=0)
+    assert 1 / 3 <= sol.stats["global_error"] / err.max() <= 3
+    assert 1 / 3 <= sol.stats["global_error_final"] / err[-1] <= 3
+    assert sol.stats["global_error_rhs_evals"] > sol.stats["rhs_evals"]

@@ -374,3 +374,47 @@ fn rejections_and_step_size_limits() {
 fn additive_scale_is_the_coordinates() {
     assert_eq!(Rn(Vector2::new(-3.0, 0.5)).tolerance_scale(), Vector2::new(3.0, 0.5));
 }
+
+// ---------------------------------------------------------------------------
+// The global-error estimate of a scene
+// ---------------------------------------------------------------------------
+
+/// Measures: with `[method] global_error = true` the summary carries an
+/// estimate of the run's error (max over the records, and at the last one)
+/// within a factor 3 of the error measured against the fixed-step reference
+/// — on the Kepler passage (adaptive DOP853 and DOPRI5) and with a fixed
+/// step (RK4); a run that does not ask has none and costs the same as before.
+#[test]
+fn global_error_estimate_is_within_a_factor_3() {
+    let samples = 161;
+    let (reference, _) = run(&scene(H2_KEPLER, "name = \"dop853\"\nh = 1e-4", 8.0, samples));
+    for method in ["name = \"dop853\"\nrtol = 1e-8\natol = 1e-8", "name = \"dopri5\"\nrtol = 1e-7\natol = 1e-7", "name = \"rk4\"\nh = 2e-3"] {
+        let plain = scene(H2_KEPLER, method, 8.0, samples);
+        let asked = scene(H2_KEPLER, &format!("{method}\nglobal_error = true"), 8.0, samples);
+        let mut sim = asked.build().unwrap();
+        let mut sink = MemorySink::default();
+        let summary = sim.run(&mut sink, &AtomicBool::new(false), &mut |_| {}).unwrap();
+        let g = summary.global_error.expect("an estimate");
+        let true_max = error(&sink, &reference);
+        let last = |s: &MemorySink| MemorySink { columns: s.columns.clone(), rows: vec![s.rows.last().unwrap().clone()], events: Vec::new() };
+        let true_last = error(&last(&sink), &last(&reference));
+        eprintln!(
+            "{}: estimate max {:.3e} (true {true_max:.3e}, ratio {:.2}), last {:.3e} (true {true_last:.3e}, ratio {:.2}); reference run {} rhs",
+            method.replace('\n', " "),
+            g.max,
+            g.max / true_max,
+            g.last,
+            g.last / true_last,
+            g.rhs_evals
+        );
+        assert!((1.0 / 3.0..=3.0).contains(&(g.max / true_max)), "{method}: estimate {:e}, error {true_max:e}", g.max);
+        assert!((1.0 / 3.0..=3.0).contains(&(g.last / true_last)), "{method}: estimate {:e}, error {true_last:e}", g.last);
+        assert!(summary.to_string().contains("global error:"));
+        let mut sim = plain.build().unwrap();
+        let mut sink2 = MemorySink::default();
+        let s2 = sim.run(&mut sink2, &AtomicBool::new(false), &mut |_| {}).unwrap();
+        assert!(s2.global_error.is_none() && !s2.to_string().contains("global error"));
+        assert_eq!((s2.steps, s2.rhs_evals), (summary.steps, summary.rhs_evals), "the run itself is the same");
+        assert_eq!(sink2.rows, sink.rows, "the same records");
+    }
+}

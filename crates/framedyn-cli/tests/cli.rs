@@ -254,6 +254,35 @@ fn exit_codes_and_messages() {
     let _ = fs::remove_dir_all(&dir);
 }
 
+/// Tolerances out of range are scene errors (exit 3) naming the field, the
+/// value and the allowed range, before any run; `global_error = true` adds
+/// the estimate to the printed summary.
+#[test]
+fn tolerance_errors_and_the_global_error_line() {
+    let dir = tmpdir("tol");
+    let text = EXAMPLES.iter().find(|(n, _)| *n == DEFAULT_SCENE).unwrap().1;
+    for (tols, field, allowed) in [
+        ("rtol = 1e-300\natol = 1e-300", "method.rtol", "≥ 1e-14"),
+        ("rtol = 0.0\natol = 1e-8", "method.rtol", "≥ 1e-14"),
+        ("rtol = 1e-8\natol = 0.0", "method.atol", "> 0"),
+        ("rtol = 1e-8\natol = -1e-8", "method.atol", "> 0"),
+    ] {
+        fs::write(dir.join("tol.toml"), text.replace("name = \"rk4\"\nh = 0.005", &format!("name = \"dop853\"\n{tols}"))).unwrap();
+        let o = framedyn(&["run", "tol.toml", "--output", "tol.csv"], &dir);
+        assert_eq!(code(&o), 3, "{tols}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(e.contains(field) && e.contains(allowed), "{tols}: {e}");
+        assert!(!dir.join("tol.csv").exists());
+    }
+    fs::write(dir.join("ge.toml"), text.replace("name = \"rk4\"\nh = 0.005", "name = \"dop853\"\nrtol = 1e-8\natol = 1e-8\nglobal_error = true")).unwrap();
+    let o = framedyn(&["run", "ge.toml", "--output", "ge.csv"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stdout(&o).contains("global error:    estimated max"), "{}", stdout(&o));
+    let o = framedyn(&["run", "--output", "plain.csv"], &dir);
+    assert!(!stdout(&o).contains("global error"), "{}", stdout(&o));
+    let _ = fs::remove_dir_all(&dir);
+}
+
 /// SIGINT, SIGTERM and SIGHUP stop a long run cleanly: exit 128 + signal,
 /// the complete file already at the output path is left as it was, the
 /// records computed so far are a valid partial result beside it, and no

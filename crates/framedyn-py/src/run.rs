@@ -320,6 +320,12 @@ fn to_py<'py>(py: Python<'py>, sink: FlatSink, summary: &RunSummary, frame_shape
     s.set_item("stop", stop_kind(&summary.stop))?;
     s.set_item("message", summary.stop.to_string())?;
     s.set_item("warnings", summary.warning_texts())?;
+    // Only when the scene asked for it ([method] global_error = true).
+    if let Some(g) = &summary.global_error {
+        s.set_item("global_error", g.max)?;
+        s.set_item("global_error_final", g.last)?;
+        s.set_item("global_error_rhs_evals", g.rhs_evals)?;
+    }
     d.set_item("summary", s)?;
     Ok(d)
 }

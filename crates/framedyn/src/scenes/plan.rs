@@ -10,7 +10,7 @@ use super::sink::Column;
 use super::spec::*;
 use crate::method::registry::{self, Built, MethodEntry, MethodParams};
 use crate::method::MethodError;
-use crate::solve::{fixed_step_count, Adaptive, Event, Save, Settings, StepSize};
+use crate::solve::{fixed_step_count, Adaptive, Event, Save, Settings, StepSize, Tol, RTOL_MIN};
 
 /// Default limit on accepted steps of a scene run.
 pub const DEFAULT_SCENE_MAX_STEPS: u64 = 1_000_000_000;
@@ -28,7 +28,40 @@ pub(crate) struct Plan {
     pub events: Vec<Event<[f64]>>,
     /// `(energy_drift, defect)` limits of the quality check.
     pub quality: (f64, f64),
+    /// Estimate the global error with a reference run ([`Plan::reference`]).
+    pub global_error: bool,
 }
+
+impl Plan {
+    /// The plan of the reference run of a global-error estimate: a
+    /// hundredth of the tolerances (`rtol ≥` [`RTOL_MIN`]) or a quarter of
+    /// the fixed step, over `[t0, t_end]`, saving exactly at `times` (the
+    /// records of the run) the compared quantities only, without events.
+    pub(crate) fn reference(&self, t_end: f64, times: Vec<f64>) -> Plan {
+        let mut p = self.clone();
+        p.t_end = t_end;
+        p.events = Vec::new();
+        p.global_error = false;
+        p.sel = Sel::new(&MEASURED);
+        p.settings.save = Save::At(times);
+        p.settings.dense = false;
+        p.settings.max_steps = p.settings.max_steps.saturating_mul(4);
+        p.settings.step = match &self.settings.step {
+            StepSize::Adaptive(a) => {
+                let tighter = |t: &Tol, floor: f64| match t {
+                    Tol::Scalar(v) => Tol::Scalar((v / 100.0).max(floor)),
+                    Tol::PerComponent(v) => Tol::PerComponent(v.iter().map(|x| (x / 100.0).max(floor)).collect()),
+                };
+                StepSize::Adaptive(Adaptive { rtol: tighter(&a.rtol, RTOL_MIN), atol: tighter(&a.atol, 0.0), ..a.clone() })
+            }
+            StepSize::Fixed(h) => StepSize::Fixed(h / 4.0),
+        };
+        p
+    }
+}
+
+/// The quantities a global-error estimate compares.
+pub(crate) const MEASURED: [Quantity; 4] = [Quantity::Position, Quantity::Velocity, Quantity::Frame, Quantity::Momenta];
 
 /// A time span for building a model only (probing which methods apply):
 /// the scene's if valid, else `(0, 1)`.
@@ -158,7 +191,7 @@ impl Scene {
             }
         }
         let settings = Settings { step, save, dense: false, max_steps: usize::try_from(max_steps).unwrap_or(usize::MAX), event_xtol: 0.0 };
-        Ok(Plan { t0: t.t0, t_end: t.t_end, entry, method, settings, sel: Sel::new(&quantities), events: Vec::new(), quality: self.quality.limits() })
+        Ok(Plan { t0: t.t0, t_end: t.t_end, entry, method, settings, sel: Sel::new(&quantities), events: Vec::new(), quality: self.quality.limits(), global_error: m.global_error.unwrap_or(false) })
     }
 
     /// The scene's `[[events]]` as events on the full record `columns`.

@@ -11,10 +11,10 @@ use std::time::Instant;
 use super::chart::ChartTwin;
 use super::error::{RunError, SceneError};
 use super::observe::{Observe, Row, Sel};
-use super::plan::Plan;
+use super::plan::{Plan, MEASURED};
 use super::sink::{Column, EventHit, RecordSink};
 use super::spec::Quantity;
-use super::summary::{nan_max, Progress, RunFailure, RunSummary, SceneStop};
+use super::summary::{nan_max, GlobalError, Progress, RunFailure, RunSummary, SceneStop};
 use crate::lie::LieGroup;
 use crate::method::registry::{Built, ChartMethod, Needs};
 use crate::method::{Method, StepRequest};
@@ -50,6 +50,78 @@ pub(crate) struct Ctx<'a> {
     pub last_progress: Instant,
     /// Columns of the momentum maps in a record.
     pub mm_idx: Vec<usize>,
+    /// The compared quantities of every record, kept for a global-error
+    /// estimate (`None`: not asked for).
+    pub capture: Option<Capture>,
+}
+
+/// The time and the compared quantities ([`MEASURED`]) of every record of a
+/// run, one flat row after the other (the time first).
+pub(crate) struct Capture {
+    sel: Sel,
+    data: Vec<f64>,
+    buf: Vec<f64>,
+}
+
+/// A [`RecordSink`] that compares the records of a reference run with the
+/// captured ones at the same times ([`GlobalError`]).
+struct Compare<'a> {
+    captured: &'a [f64],
+    width: usize,
+    next: usize,
+    groups: Vec<Vec<usize>>,
+    max: f64,
+    last: f64,
+}
+
+impl RecordSink for Compare<'_> {
+    fn columns(&mut self, columns: &[Column]) -> std::io::Result<()> {
+        self.width = columns.len();
+        self.groups = measured_groups(columns);
+        Ok(())
+    }
+    fn record(&mut self, row: &[f64]) -> std::io::Result<()> {
+        // The reference saves exactly at the captured times, in order.
+        while self.next * self.width < self.captured.len() {
+            let a = &self.captured[self.next * self.width..(self.next + 1) * self.width];
+            self.next += 1;
+            if a[0] == row[0] {
+                let e = state_error(&self.groups, a, row);
+                self.max = nan_max(self.max, e);
+                self.last = e;
+                break;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The column indices of each compared vector: the position, the velocity,
+/// each body-frame vector (`e1_*`, `e2_*`, …) and the momenta.
+fn measured_groups(columns: &[Column]) -> Vec<Vec<usize>> {
+    let of = |q: Quantity| columns.iter().enumerate().filter(|(_, c)| c.group == Some(q)).map(|(j, _)| j).collect::<Vec<_>>();
+    let mut out = vec![of(Quantity::Position), of(Quantity::Velocity)];
+    let frame = of(Quantity::Frame);
+    let vector = |j: usize| columns[j].name.split('_').next().unwrap_or("").to_string();
+    let mut names: Vec<String> = frame.iter().map(|&j| vector(j)).collect();
+    names.dedup();
+    for n in names {
+        out.push(frame.iter().copied().filter(|&j| vector(j) == n).collect());
+    }
+    out.push(of(Quantity::Momenta));
+    out.retain(|g| !g.is_empty());
+    out
+}
+
+/// `max over groups of ‖a − b‖₂/(1 + ‖b‖₂)`.
+fn state_error(groups: &[Vec<usize>], a: &[f64], b: &[f64]) -> f64 {
+    let mut worst = 0.0;
+    for g in groups {
+        let d = g.iter().map(|&j| (a[j] - b[j]).powi(2)).sum::<f64>().sqrt();
+        let n = g.iter().map(|&j| b[j].powi(2)).sum::<f64>().sqrt();
+        worst = nan_max(worst, d / (1.0 + n));
+    }
+    worst
 }
 
 /// The engine of one model: the problem and the current state of the
@@ -86,15 +158,24 @@ pub(crate) struct Records<'a, S: Observe> {
     /// For a sink that keeps only the last record ([`RecordSink::last_only`]):
     /// the last saved state, recorded by [`Records::finish`].
     last: Option<Option<(f64, S::State)>>,
+    capture: Option<&'a mut Capture>,
 }
 
 impl<'a, S: Observe> Records<'a, S> {
-    fn new(sys: &'a S, sel: Sel, sink: &'a mut dyn RecordSink, summary: &'a mut RunSummary, mm_idx: &'a [usize], events: &'a [Event<[f64]>]) -> Self {
+    fn new(
+        sys: &'a S,
+        sel: Sel,
+        sink: &'a mut dyn RecordSink,
+        summary: &'a mut RunSummary,
+        mm_idx: &'a [usize],
+        events: &'a [Event<[f64]>],
+        capture: Option<&'a mut Capture>,
+    ) -> Self {
         let last = sink.last_only().then_some(None);
         // Room for the widest record (an affine body on S³ has 59 columns):
         // no reallocation while the first record is built.
         let (buf, mm, mm0) = (Vec::with_capacity(64), Vec::with_capacity(mm_idx.len()), Vec::with_capacity(mm_idx.len()));
-        Records { sys, sel, sink, summary, mm_idx, events, buf, mm, mm0, last }
+        Records { sys, sel, sink, summary, mm_idx, events, buf, mm, mm0, last, capture }
     }
 
     /// Notes the record whose momentum maps are in `self.mm`.
@@ -141,6 +222,11 @@ impl<S: Observe> solve::Sink<S::State> for Records<'_, S> {
                     self.mm.extend_from_slice(&self.buf[1..]);
                 }
             }
+        }
+        if let Some(c) = self.capture.as_deref_mut() {
+            c.buf.clear();
+            self.sys.observe(c.sel, t, y, &mut Row::values(&mut c.buf));
+            c.data.extend_from_slice(&c.buf);
         }
         let (energy, defect) = (self.sys.energy(y), self.sys.defect(y));
         self.note(energy, defect);
@@ -314,7 +400,7 @@ impl<S: Observe> DynEngine for Engine<S> {
             }
         };
         let mut control = Control { cancel: Some(ctx.cancel), progress: Some(&mut report) };
-        let mut records = Records::new(sys, plan.sel, &mut *ctx.sink, &mut ctx.summary, &ctx.mm_idx, &plan.events);
+        let mut records = Records::new(sys, plan.sel, &mut *ctx.sink, &mut ctx.summary, &ctx.mm_idx, &plan.events, ctx.capture.as_mut());
         let mut events = RecordEvents { sys, events: &plan.events, full: Vec::new() };
         let (stop, stats) = match &plan.method {
             Built::Group(m) => {
@@ -486,13 +572,20 @@ impl Simulation {
             return Err(RunFailure { error: RunError::Io(e), summary });
         }
         let mm_idx = self.columns.iter().enumerate().filter(|(_, c)| c.group == Some(Quantity::MomentumMap)).map(|(j, _)| j).collect();
-        let mut ctx = Ctx { sink, cancel, progress, summary, last_progress: started, mm_idx };
+        let capture = self.plan.global_error.then(|| Capture { sel: Sel::new(&MEASURED), data: Vec::new(), buf: Vec::new() });
+        let mut ctx = Ctx { sink, cancel, progress, summary, last_progress: started, mm_idx, capture };
         let result = self.engine.run(&self.plan, &mut ctx);
         let (t0, t_end, t) = (self.plan.t0, self.plan.t_end, self.engine.t());
         let fraction = ((t - t0) / (t_end - t0)).clamp(0.0, 1.0);
         (ctx.progress)(&Progress { t, t0, t_end, fraction, steps: ctx.summary.steps });
+        let capture = ctx.capture.take();
         let mut summary = ctx.summary;
         summary.t_reached = t;
+        if let (Ok(()), Some(capture)) = (&result, capture) {
+            if summary.stop != SceneStop::Cancelled && t != t0 {
+                summary.global_error = self.estimate_global_error(&capture, t, cancel);
+            }
+        }
         summary.wall_time = started.elapsed();
         summary.judge(self.plan.quality);
         match result {
@@ -506,6 +599,34 @@ impl Simulation {
                 Err(RunFailure { error, summary })
             }
         }
+    }
+
+    /// The global-error estimate of a run whose compared quantities are in
+    /// `capture` and which reached `t_reached` ([`GlobalError`]): the
+    /// reference run ([`Plan::reference`]) compared at every record. `None`
+    /// if the reference run fails or is cancelled. Leaves the simulation at
+    /// the reference run's last state.
+    fn estimate_global_error(&mut self, capture: &Capture, t_reached: f64, cancel: &AtomicBool) -> Option<GlobalError> {
+        let sel = Sel::new(&MEASURED);
+        let width = self.engine.columns(sel).len();
+        let times: Vec<f64> = capture.data.chunks_exact(width).map(|r| r[0]).collect();
+        let plan = self.plan.reference(t_reached, times);
+        let mut compare = Compare { captured: &capture.data, width, next: 0, groups: Vec::new(), max: 0.0, last: f64::NAN };
+        compare.columns(&self.engine.columns(sel)).ok()?;
+        let mut no_progress = |_: &Progress| {};
+        let mut ctx = Ctx {
+            sink: &mut compare,
+            cancel,
+            progress: &mut no_progress,
+            summary: RunSummary::new(self.method_name(), self.plan.t0),
+            last_progress: Instant::now(),
+            mm_idx: Vec::new(),
+            capture: None,
+        };
+        let ran = self.engine.run(&plan, &mut ctx);
+        let (finished, rhs_evals) = (ctx.summary.stop == SceneStop::Finished, ctx.summary.rhs_evals);
+        drop(ctx);
+        (ran.is_ok() && finished).then_some(GlobalError { max: compare.max, last: compare.last, rhs_evals })
     }
 
     /// Advances the current state by one step of size `h` with the scene's

@@ -418,6 +418,12 @@ pub struct MethodSpec {
     /// Limit on the number of accepted steps (default 10⁹).
     #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "count::at_least_one")]
     pub max_steps: Option<u64>,
+    /// Estimate the run's global error (default false): the run is repeated
+    /// with a hundredth of the tolerances (a quarter of the fixed step) and
+    /// compared at every record; see
+    /// [`GlobalError`](super::GlobalError). Costs the reference run.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub global_error: Option<bool>,
     /// `implicit_midpoint` only: Newton tolerance (relative, max norm) in
     /// `[1e-16, 1e-2]` (default 1e-14).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -434,7 +440,7 @@ fn default_method() -> String {
 
 impl Default for MethodSpec {
     fn default() -> Self {
-        MethodSpec { name: default_method(), h: None, rtol: None, atol: None, max_steps: None, newton_tol: None, newton_max_iter: None }
+        MethodSpec { name: default_method(), h: None, rtol: None, atol: None, max_steps: None, global_error: None, newton_tol: None, newton_max_iter: None }
     }
 }
 

@@ -84,6 +84,35 @@ pub struct RunSummary {
     /// What the quality check found ([`RunSummary::judge`] against the
     /// scene's `[quality]` limits); empty when the run is sound.
     pub warnings: Vec<QualityWarning>,
+    /// The estimate of the run's global error, when the scene asks for it
+    /// (`[method] global_error = true`); `None` otherwise.
+    pub global_error: Option<GlobalError>,
+}
+
+/// An estimate of a run's global error (`[method] global_error = true`).
+///
+/// The run is repeated from the same initial state with a hundredth of its
+/// tolerances (`rtol` no smaller than 1e-14), or a quarter of its fixed step,
+/// and the two are compared at every record. If the error is proportional
+/// to the tolerance (as `docs/performance.md`, "Tolerance proportionality",
+/// measures for DOP853 and DOPRI5) the reference's own error is about 1 % of
+/// the run's (`4⁻ᵖ` for a fixed step of order `p`), so the difference is the
+/// run's error to within a few per cent; measured against independent
+/// references there within a factor 3 (`scripts/tolerance_proportionality.py`).
+///
+/// The error of a record is `max over quantities of ‖δ‖₂/(1 + ‖ref‖₂)` over
+/// the embedded position, the velocity, each body-frame vector and the
+/// internal momenta (mixed absolute/relative, like `atol = rtol`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GlobalError {
+    /// The largest error of the records.
+    pub max: f64,
+    /// The error of the last record.
+    pub last: f64,
+    /// Vector-field evaluations of the reference run (the price of the
+    /// estimate, besides the memory of the compared quantities of each
+    /// record).
+    pub rhs_evals: u64,
 }
 
 /// A finding of the quality check of a run's summary.
@@ -140,6 +169,7 @@ impl RunSummary {
             t_reached: t0,
             stop: SceneStop::Finished,
             warnings: Vec::new(),
+            global_error: None,
         }
     }
 
@@ -250,6 +280,13 @@ impl fmt::Display for RunSummary {
         writeln!(f, "energy:          E0 = {:.12e}, max |E - E0| = {:.3e} (relative {:.3e})", self.energy_initial, self.energy_drift, self.relative_energy_drift())?;
         writeln!(f, "momentum maps:   max |J - J0| = {:.3e}", self.momentum_map_drift)?;
         write!(f, "constraint defect: max {:.3e}", self.max_defect)?;
+        if let Some(g) = &self.global_error {
+            write!(
+                f,
+                "\nglobal error:    estimated max {:.2e}, at the end {:.2e} (relative to 1 + |value|; reference run: {} vector-field evaluations)",
+                g.max, g.last, g.rhs_evals
+            )?;
+        }
         if self.warnings.is_empty() {
             write!(f, "\nquality:         ok")
         } else {
