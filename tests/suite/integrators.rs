@@ -381,9 +381,11 @@ fn lorentz_constraint_preserved() {
 // Adaptive stepping
 // ---------------------------------------------------------------------------
 
-/// The global error of `y` against `y_ref` in the controller's own norm:
-/// `√(Σᵢ (eᵢ/scᵢ)²/LEN)`, `scᵢ = tol + tol·sᵢ(y_ref)`, with
-/// `e = log(y_ref⁻¹ y)` (left trivialised, like the local estimate).
+/// The global error of `y` against `y_ref` in the controller's scaled
+/// components, as a root-mean-square: `√(Σᵢ (eᵢ/scᵢ)²/LEN)`,
+/// `scᵢ = tol + tol·sᵢ(y_ref)`, with `e = log(y_ref⁻¹ y)` (left
+/// trivialised, like the local estimate). (The controller itself takes the
+/// maximum over the components; the bounds below were set for this mean.)
 fn scaled_global_error<G: GroupNumerics>(y: &G, y_ref: &G, tol: f64) -> f64 {
     use framedyn::lie::AlgebraVector;
     let e = y_ref.inverse().compose(y).log().expect("log near identity");

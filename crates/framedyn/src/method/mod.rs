@@ -35,7 +35,7 @@
 //! | [`Rkmk::kutta3`] | 3 | 3 RHS, 3 exp, 2 brackets | — |
 //! | [`Rkmk::rk4`] | 4 | 4 RHS, 4 exp, 2 brackets | fixed-step accuracy on any system |
 //! | [`Rkmk::dopri5`] | 5 (4) | 6 RHS (FSAL), 6–7 exp, `ad²` series | adaptive, dense output, events; any system, short to medium times (tolerance per step: the final error can exceed it by the flow's amplification) |
-//! | [`Rkmk::dop853`] | 8 (5, 3) | 12 RHS (FSAL; 3 more for dense output), `ad⁶` series | adaptive when the tolerance should bound the final error (≤ 8.1 × tol on every reference trajectory), dense output of order 7, events |
+//! | [`Rkmk::dop853`] | 8 (5, 3) | 12 RHS (FSAL; 3 more for dense output), `ad⁶` series | adaptive, with the error closest to tol (within 12 × tol where the flow does not amplify errors strongly: `docs/performance.md`, "Tolerance proportionality"), dense output of order 7, events |
 //! | [`Rkmk::butcher6`] | 6 | 7 RHS, 7 exp, `ad⁴` series | high-accuracy references |
 //! | [`Splitting::strang`] | 2 | 1 kick (1 force), 2 drifts | long runs at loose accuracy: energy bounded, momentum maps exact |
 //! | [`Splitting::yoshida4`] / [`Splitting::suzuki4`] | 4 | 3 / 5 kicks, 4 / 6 drifts | long runs (Suzuki: 10–130× smaller error than Yoshida at equal h) |

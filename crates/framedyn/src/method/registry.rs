@@ -335,7 +335,7 @@ entry!(
     true,
     Nothing,
     &[],
-    "Hairer's DOP853 8(5,3): adaptive, dense output of order 7; the adaptive method whose tolerance comes closest to bounding the final error",
+    "Hairer's DOP853 8(5,3): adaptive, dense output of order 7; the adaptive method whose error stays closest to tol",
     |_| group(AnyMethod::Rkmk12(Rkmk::dop853()))
 );
 entry!(BUTCHER6, "butcher6", "RKMK Butcher6", Rkmk, 6, None, false, Nothing, &[], "order 6, 7 evaluations per step: high-accuracy references", |_| group(AnyMethod::Rkmk7(Rkmk::butcher6())));

@@ -130,8 +130,8 @@ impl Default for Controller {
 /// the flow, so it grows with the number of steps and with the flow's
 /// amplification of perturbations, and no step-size controller bounds it by
 /// `tol` alone. What it is on measured problems — proportional to `tol`,
-/// within 20 × tol (DOP853) and 50 × tol (DOPRI5) on flows that do not
-/// amplify errors strongly, and orders of magnitude above `tol` at sharp
+/// within 12 × tol (DOP853) and 35 × tol (DOPRI5) on the measured flows
+/// that do not amplify errors strongly, and orders of magnitude above `tol` at sharp
 /// Kepler pericentre passages — is in `docs/performance.md` ("Tolerance
 /// proportionality"), measured by `scripts/tolerance_proportionality.py`;
 /// a scene can ask for an estimate of its global error (`[method]

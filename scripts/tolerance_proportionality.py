@@ -1,0 +1,349 @@
+#!/usr/bin/env python3
+"""Tolerance proportionality of framedyn's adaptive methods — ONE command:
+
+    python3 scripts/tolerance_proportionality.py            # about 1 minute (release build)
+    python3 scripts/tolerance_proportionality.py --quick    # tol 1e-6, 1e-9, 1e-12 only
+
+For every problem below and tol = 1e-6 … 1e-12 (rtol = atol = tol) it runs
+framedyn's DOP853 and DOPRI5 through the Python module and measures their
+error against a reference at 161 equally spaced times (dense output), as
+
+    error = max over the times and over the quantities q of ‖δq‖₂ / (1 + ‖q_ref‖₂)
+
+with q the embedded position, the velocity, each body-frame vector and the
+internal momenta (spin, hypermomentum): mixed absolute/relative, like
+atol = rtol. The reference is framedyn's DOP853 with a *fixed* small step
+(no step-size control involved); the script checks it against the run with
+twice that step and, for the Kepler problems, against scipy's DOP853 at
+rtol = atol = 1e-13 on the paper's coordinate equations (independent code).
+Where the coordinates allow (the two Kepler problems, in polar coordinates
+about the centre; on S² also in embedding coordinates) scipy's DOP853 and
+RK45 run at the same tolerances on the same problem, measured in position
+and velocity. Every framedyn run asks for the global-error estimate
+(`global_error=True`) and the script compares it with the measured error.
+
+Writes docs/data/tolerance_proportionality.csv (one row per problem, solver
+and tol) and docs/figures/performance/tolerance_proportionality.png, and
+prints the table of docs/performance.md ("Tolerance proportionality").
+`--out DIR` writes the CSV to DIR instead (e.g. to compare builds);
+`--compare OLD.csv` prints, for every problem and method, the ratio of
+vector-field evaluations (new / old) at equal error, interpolated in
+log-log between the tolerances (work-precision at equal error).
+
+Run it from the repository root with a Python that has numpy, scipy,
+matplotlib and a release build of framedyn (`pip install .`).
+"""
+
+import argparse
+import csv
+import math
+import os
+import sys
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+import framedyn as fd
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DATA = os.path.join(ROOT, "docs", "data")
+FIGS = os.path.join(ROOT, "docs", "figures", "performance")
+SAMPLES = 161
+NO_ESTIMATE = False  # --no-estimate: for a build without global_error
+
+# name -> (scene keywords, t_end, reference step, amplifying?, scipy kind or None)
+PROBLEMS = {
+    # The reference problems of the test suite that the Python module runs.
+    "s2_gyro": (dict(manifold={"kind": "S2", "radius": 1.0}, body={"kind": "gyroscope", "inertia": 0.2},
+                     potential={"kind": "cosine", "alpha_hat": 0.0, "beta_hat": -0.3},
+                     r=0.6, phi=0.0, r_dot=0.3, phi_dot=0.8, spin=0.2), 10.0, 2e-3, False, None),
+    "h2_gyro": (dict(manifold={"kind": "H2", "radius": 1.0}, body={"kind": "gyroscope", "inertia": 0.2},
+                     potential={"kind": "cosine", "alpha_hat": 0.0, "beta_hat": 0.3},
+                     r=0.6, phi=0.0, r_dot=0.0, phi_dot=0.8, spin=0.2), 10.0, 2e-3, False, None),
+    "t2_gyro": (dict(manifold={"kind": "T2", "L": 2.0, "R": 0.7}, body={"kind": "gyroscope", "inertia": 0.3},
+                     potential={"kind": "cosine", "alpha_hat": 0.0, "beta_hat": 0.8},
+                     theta=0.3, phi=0.0, theta_dot=0.5, phi_dot=0.4, spin=0.3), 10.0, 2e-3, False, None),
+    "s3_gyro": (dict(manifold={"kind": "S3", "radius": 1.0}, body={"kind": "gyroscope", "J": [[0.2, 0, 0], [0, 0.35, 0], [0, 0, 0.5]]},
+                     potential={"kind": "cosine", "alpha_hat": 0.0, "beta_hat": 0.5},
+                     r1=0.3, r2=0.2, r3=0.1, r1_dot=0.3, r2_dot=-0.2, r3_dot=0.4, orientation=[0.1, 0.2, 0.3], omega=[1.0, 0.5, -0.3]), 10.0, 2e-3, False, None),
+    "s2_affine": (dict(manifold={"kind": "S2", "radius": 1.0}, body={"kind": "affine", "mass": 1.0, "inertia": 0.1},
+                       potential={"kind": "elastic", "kappa": 1.0},
+                       r=0.7, phi=0.0, r_dot=0.0, phi_dot=0.6, rho=[[1.1, 0.0], [0.0, 0.9]], rho_dot=[[0.0, 0.2], [-0.1, 0.0]]),
+                  10.0, 1e-3, False, None),
+    "h2_affine": (dict(manifold={"kind": "H2", "radius": 1.0}, body={"kind": "affine", "mass": 1.0, "inertia": 0.1},
+                       potential={"kind": "elastic", "kappa": 1.0},
+                       r=0.5, phi=0.0, r_dot=0.2, phi_dot=0.5, rho=[[1.1, 0.0], [0.0, 0.9]], rho_dot=[[0.0, 0.2], [-0.1, 0.0]]),
+                  10.0, 1e-3, False, None),
+    # Harder problems.
+    "s2_pole": (dict(manifold={"kind": "S2", "radius": 1.0}, body={"kind": "gyroscope", "inertia": 0.2},
+                          potential={"kind": "cosine", "alpha_hat": 0.0, "beta_hat": -0.3},
+                     r=0.6, phi=0.0, r_dot=-1.0, phi_dot=1e-7, alpha=0.3, spin=0.0), 4.0, 1e-3, False, None),
+    "h2_escape_r17": (dict(manifold={"kind": "H2", "radius": 1.0}, body={"kind": "point"},
+                           potential={"kind": "oscillator", "kappa": 1.0},
+                           r=0.5, phi=0.0, r_dot=1.2, phi_dot=0.1), 20.0, 2e-3, False, None),
+    "s2_affine_k100": (dict(manifold={"kind": "S2", "radius": 1.0}, body={"kind": "affine", "mass": 1.0, "inertia": 0.1},
+                            potential={"kind": "elastic", "kappa": 100.0},
+                            r=0.7, phi=0.0, r_dot=0.0, phi_dot=0.6, rho=[[1.1, 0.0], [0.0, 0.9]], rho_dot=[[0.0, 0.2], [-0.1, 0.0]]),
+                       4.0, 1e-4, False, None),
+    # Kepler-type pericentre passages (sensitive flows).
+    "s2_kepler_point": (dict(manifold={"kind": "S2", "radius": 1.0}, body={"kind": "point", "mass": 1.0},
+                             potential={"kind": "kepler", "alpha": 1.0},
+                             r=1.0, phi=0.0, r_dot=0.0, phi_dot=0.3), 8.0, 5e-5, True, "S2"),
+    "h2_kepler_point": (dict(manifold={"kind": "H2", "radius": 1.0}, body={"kind": "point", "mass": 1.0},
+                             potential={"kind": "kepler", "alpha": 1.0},
+                             r=1.0, phi=0.0, r_dot=0.0, phi_dot=0.3), 8.0, 5e-5, True, "H2"),
+    "h2_kepler_gyro": (dict(manifold={"kind": "H2", "radius": 1.0}, body={"kind": "gyroscope", "inertia": 0.2},
+                            potential={"kind": "kepler", "alpha": 1.0},
+                            r=1.0, phi=0.0, r_dot=0.0, phi_dot=0.3, spin=0.1), 8.0, 1e-4, True, None),
+}
+
+
+def groups(sol, position_velocity_only=False):
+    """The measured vectors of a solution, each an (n, k) array."""
+    gs = [sol.position, sol.velocity]
+    if position_velocity_only:
+        return gs
+    try:
+        f = sol.frame
+    except Exception:  # a point has no frame
+        f = None
+    if f is not None:
+        gs.extend(f[:, a, :] for a in range(f.shape[1]))
+    m = sol.momenta
+    if m:
+        n = len(sol.t)
+        gs.append(np.hstack([np.asarray(m[k]).reshape(n, -1) for k in m]))
+    return gs
+
+
+def error(gs, ref_gs):
+    """max over times and quantities of ‖δ‖₂/(1 + ‖ref‖₂); and at the last time."""
+    per = np.max([np.linalg.norm(a - b, axis=1) / (1.0 + np.linalg.norm(b, axis=1)) for a, b in zip(gs, ref_gs)], axis=0)
+    return float(per.max()), float(per[-1])
+
+
+def scene(kw, t_end, **method):
+    return fd.Scene(**kw, t_end=t_end, samples=SAMPLES, max_steps=10**8, **method)
+
+
+# ---------------------------------------------------------------------------
+# The Kepler problem of a point on S² / H² in polar coordinates about the
+# centre, V = −(α/R) cot(r/R) (coth on H²):
+#   m r̈ = m R s c φ̇² − α/(R² s²),   φ̈ = −2 c ṙ φ̇ /(R s)
+# with s, c = sin, cos (sinh, cosh on H²) of r/R.
+# ---------------------------------------------------------------------------
+
+def kepler_polar(kind, m, R, alpha):
+    hyp = kind == "H2"
+
+    def rhs(t, y):
+        r, _ph, rd, phd = y
+        th = r / R
+        s, c = (math.sinh(th), math.cosh(th)) if hyp else (math.sin(th), math.cos(th))
+        return [rd, phd, R * s * c * phd * phd - alpha / (m * R * R * s * s), -2.0 * c / (R * s) * rd * phd]
+
+    def ambient(Y):
+        r, ph, rd, phd = Y
+        th = r / R
+        s, c = (np.sinh(th), np.cosh(th)) if hyp else (np.sin(th), np.cos(th))
+        ds, dc = (c, s) if hyp else (c, -s)
+        x = R * np.array([s * np.cos(ph), s * np.sin(ph), c])
+        v = np.array([ds * rd * np.cos(ph) - R * s * np.sin(ph) * phd, ds * rd * np.sin(ph) + R * s * np.cos(ph) * phd, dc * rd])
+        return [x.T, v.T]
+
+    return rhs, ambient
+
+
+def kepler_s2_cartesian(m, R, alpha):
+    """The same S² problem in embedding coordinates (x, ẋ) ∈ ℝ⁶:
+    ẍ = P(−∇V/m) − |ẋ|² x/R², V = −(α/R) z/√(x² + y²), P the tangent projection."""
+
+    def rhs(t, u):
+        x, v = u[:3], u[3:]
+        rho = math.hypot(x[0], x[1])
+        g = np.array([alpha / R * x[2] * x[0] / rho**3, alpha / R * x[2] * x[1] / rho**3, -alpha / R / rho])
+        f = -g / m
+        f = f - x * np.dot(x, f) / R**2
+        return np.concatenate([v, f - np.dot(v, v) / R**2 * x])
+
+    return rhs
+
+
+def scipy_runs(name, kw, t_end, ts, ref_pv, tols, rows):
+    kind = PROBLEMS[name][4]
+    m, R, alpha = kw["body"].get("mass", 1.0), kw["manifold"]["radius"], kw["potential"]["alpha"]
+    rhs, ambient = kepler_polar(kind, m, R, alpha)
+    y0 = [kw["r"], kw["phi"], kw["r_dot"], kw["phi_dot"]]
+    # Independent check of the fixed-step framedyn reference.
+    chk = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=1e-13, atol=1e-13, t_eval=ts, dense_output=True)
+    diff, _ = error(ambient(chk.y), ref_pv)
+    r_min = chk.sol(np.linspace(0.0, t_end, 400001))[0].min() / R
+    print(f"  {name}: framedyn fixed-step reference vs scipy DOP853 (tol 1e-13, polar coordinates): {diff:.1e}; pericentre r_min = {r_min:.3f} R")
+    variants = [("polar", rhs, y0, lambda Y: ambient(Y))]
+    if kind == "S2":
+        x0, v0 = ambient(np.array(y0).reshape(4, 1))
+        variants.append(("embedding", kepler_s2_cartesian(m, R, alpha), np.concatenate([x0[0], v0[0]]), lambda Y: [Y[:3].T, Y[3:].T]))
+    for coords, f, u0, obs in variants:
+        for method in ("DOP853", "RK45"):
+            for tol in tols:
+                out = solve_ivp(f, (0.0, t_end), u0, method=method, rtol=tol, atol=tol, t_eval=ts)
+                e, e_last = error(obs(out.y), ref_pv)
+                rows.append(dict(problem=name, solver=f"scipy {method} ({coords})", tol=tol, max_error=e, final_error=e_last,
+                                 max_over_tol=e / tol, rhs_evals=out.nfev, steps="", estimate="", estimate_over_error="",
+                                 estimate_final_over_error="", estimate_rhs_evals=""))
+
+
+def measure(names, tols):
+    rows = []
+    summary = {}
+    for name in names:
+        kw, t_end, h_ref, amplifying, scipy_kind = PROBLEMS[name]
+        ts = np.linspace(0.0, t_end, SAMPLES)
+        ref = fd.solve(scene(kw, t_end, method="dop853", h=h_ref))
+        coarse = fd.solve(scene(kw, t_end, method="dop853", h=2 * h_ref))
+        ref_gs = groups(ref)
+        ref_err, _ = error(groups(coarse), ref_gs)
+        x = ref.position
+        # Distance from the chart pole / from the Kepler centre (0, 0, R) in units of R.
+        dist = np.arctan2(np.hypot(x[:, 0], x[:, 1]), x[:, 2]) if kw["manifold"]["kind"] == "S2" else np.arccosh(np.maximum(x[:, 2], 1.0))
+        note = f"r ∈ [{dist.min():.3g}, {dist.max():.3g}] R (at the samples)" if kw["manifold"]["kind"] in ("S2", "H2") else ""
+        if name.startswith("s2_pole"):
+            # The closest approach to the pole: below any sampling's
+            # resolution, so from the conserved p_φ = m sin²(r/R) R² φ̇ (the
+            # spin is 0): r_min ≈ |p_φ|/(m |v|) at the pole (sin r ≈ r).
+            i = int(np.argmin(dist))
+            p_phi = abs(float(ref.momentum_maps["p_phi"][0]))
+            note += f"; closest approach to the pole ≈ |p_φ|/(m|v|) = {p_phi / np.linalg.norm(ref.velocity[i]):.1e} R"
+        print(f"{name}: reference h = {h_ref} differs from h = {2 * h_ref} by {ref_err:.1e}; {note}")
+        # With 2h the error of an 8th-order method is 2⁸ times that with h:
+        # the reference's own error is about ref_err/255 (the Kepler runs
+        # are checked against scipy below as well).
+        assert ref_err < (1e-10 if amplifying else 1e-12), f"{name}: reference not converged"
+        for method in ("dop853", "dopri5"):
+            for tol in tols:
+                extra = {} if NO_ESTIMATE else {"global_error": True}
+                sol = fd.solve(scene(kw, t_end, method=method, rtol=tol, atol=tol, **extra))
+                e, e_last = error(groups(sol), ref_gs)
+                est = sol.stats.get("global_error", float("nan"))
+                rows.append(dict(problem=name, solver=f"framedyn {method}", tol=tol, max_error=e, final_error=e_last, max_over_tol=e / tol,
+                                 rhs_evals=sol.stats["rhs_evals"], steps=sol.stats["steps"], estimate=est, estimate_over_error=est / e,
+                                 estimate_final_over_error=sol.stats.get("global_error_final", float("nan")) / e_last,
+                                 estimate_rhs_evals=sol.stats.get("global_error_rhs_evals", float("nan"))))
+        if scipy_kind:
+            scipy_runs(name, kw, t_end, ts, groups(ref, position_velocity_only=True), tols, rows)
+        summary[name] = (amplifying, note)
+    return rows, summary
+
+
+def slope(rows):
+    x = np.log([r["tol"] for r in rows])
+    y = np.log([r["max_error"] for r in rows])
+    return float(np.polyfit(x, y, 1)[0])
+
+
+def table(rows, summary):
+    print()
+    print("| problem | solver | max error / tol over tol = 1e-6 … 1e-12 | slope | global-error estimate / error (max and final) |")
+    print("|---|---|---|---|---|")
+    for name, (amplifying, note) in summary.items():
+        for solver in sorted({r["solver"] for r in rows if r["problem"] == name}, key=lambda s: (not s.startswith("framedyn"), s)):
+            rs = [r for r in rows if r["problem"] == name and r["solver"] == solver]
+            q = [r["max_over_tol"] for r in rs]
+            est = [r[k] for r in rs for k in ("estimate_over_error", "estimate_final_over_error")
+                   if r[k] != "" and not math.isnan(r[k])]
+            est_s = f"{min(est):.2f} – {max(est):.2f}" if est else "—"
+            label = f"{name}{' (amplifying)' if amplifying else ''}"
+            print(f"| {label} | {solver} | {min(q):.3g} – {max(q):.3g} | {slope(rs):.2f} | {est_s} |")
+
+
+def chart(rows, summary, path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5), sharey=True)
+    for ax, method in zip(axes, ("dop853", "dopri5")):
+        for name, (amplifying, _) in summary.items():
+            rs = [r for r in rows if r["problem"] == name and r["solver"] == f"framedyn {method}"]
+            ax.loglog([r["tol"] for r in rs], [r["max_over_tol"] for r in rs], "o-" if not amplifying else "s--", label=name, ms=4)
+        sm = "DOP853" if method == "dop853" else "RK45"
+        for name, (amplifying, _) in summary.items():
+            rs = [r for r in rows if r["problem"] == name and r["solver"] == f"scipy {sm} (polar)"]
+            if rs:
+                ax.loglog([r["tol"] for r in rs], [r["max_over_tol"] for r in rs], "x:", color="grey", label=f"{name}: scipy {sm} (polar)")
+        ax.axhline(20 if method == "dop853" else 50, color="k", lw=0.8, ls="--")
+        ax.set_xlabel("tol (rtol = atol)")
+        ax.set_title(f"framedyn {method}: max error over the trajectory / tol")
+        ax.invert_xaxis()
+        ax.grid(True, which="major", alpha=0.3)
+    axes[0].set_ylabel("max error / tol")
+    axes[1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print(f"wrote {path}")
+
+
+def estimate_cost(rows):
+    ratios = {}
+    for r in rows:
+        if r["solver"].startswith("framedyn") and r["estimate_rhs_evals"] != "" and not math.isnan(r["estimate_rhs_evals"]):
+            ratios.setdefault(r["solver"], []).append(r["estimate_rhs_evals"] / r["rhs_evals"])
+    for solver, q in ratios.items():
+        print(f"global-error estimate, {solver}: the reference run costs {min(q):.2f} – {max(q):.2f} × the run (median {np.median(q):.2f})")
+
+
+def compare(rows, old_path):
+    with open(old_path) as f:
+        old = list(csv.DictReader(f))
+    print("\nvector-field evaluations at equal max error, new / old (log-log interpolation between tolerances):")
+    for name in dict.fromkeys(r["problem"] for r in rows):
+        for method in ("framedyn dop853", "framedyn dopri5"):
+            new = [(r["max_error"], r["rhs_evals"]) for r in rows if r["problem"] == name and r["solver"] == method]
+            prev = [(float(r["max_error"]), float(r["rhs_evals"])) for r in old if r["problem"] == name and r["solver"] == method]
+            if not new or not prev:
+                continue
+            ratios = []
+            pe, pc = np.log([p[0] for p in prev]), np.log([p[1] for p in prev])
+            order = np.argsort(pe)
+            for e, c in new:
+                le = math.log(e)
+                if pe.min() <= le <= pe.max():
+                    ratios.append(c / math.exp(np.interp(le, pe[order], pc[order])))
+            if ratios:
+                print(f"  {name:18s} {method}: {min(ratios):.2f} – {max(ratios):.2f} (median {np.median(ratios):.2f}, {len(ratios)} points)")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--quick", action="store_true", help="tol 1e-6, 1e-9, 1e-12 only")
+    ap.add_argument("--out", default=DATA, help="directory of the CSV (default docs/data)")
+    ap.add_argument("--problems", default=",".join(PROBLEMS), help="comma-separated subset")
+    ap.add_argument("--compare", help="an earlier CSV: work at equal error, new / old")
+    ap.add_argument("--no-chart", action="store_true")
+    ap.add_argument("--no-estimate", action="store_true", help="do not ask for the global-error estimate (builds before it existed)")
+    args = ap.parse_args()
+    global NO_ESTIMATE
+    NO_ESTIMATE = args.no_estimate
+    tols = [1e-6, 1e-9, 1e-12] if args.quick else [10.0**-k for k in range(6, 13)]
+    names = args.problems.split(",")
+    rows, summary = measure(names, tols)
+    os.makedirs(args.out, exist_ok=True)
+    path = os.path.join(args.out, "tolerance_proportionality.csv")
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    print(f"wrote {path}")
+    table(rows, summary)
+    estimate_cost(rows)
+    if not args.no_chart:
+        os.makedirs(FIGS, exist_ok=True)
+        chart(rows, summary, os.path.join(FIGS, "tolerance_proportionality.png"))
+    if args.compare:
+        compare(rows, args.compare)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
