@@ -17,6 +17,7 @@ mod ensemble;
 mod hyperbolic;
 mod integrators;
 mod internals;
+mod lyapunov;
 mod matrix_groups;
 mod potentials;
 mod registry;

@@ -6,6 +6,7 @@
 //! as (a52) refer to it).
 //!
 //! Layout:
+//! - [`analysis`]: tangent dynamics on the group, Lyapunov spectra (issue 21);
 //! - [`lie`]: the Lie groups of the configuration spaces and their exponential
 //!   maps, with closed forms where they exist and series where they do not;
 //! - [`manifold`]: the [`Manifold`](manifold::Manifold) trait and the four
@@ -30,6 +31,7 @@
 #![deny(missing_docs)]
 #![deny(unsafe_code)]
 
+pub mod analysis;
 pub mod body;
 pub mod bundle;
 pub mod coords;

@@ -23,6 +23,25 @@ use crate::dynamics::{Gyroscope2Model, Gyroscope2State, Gyroscope3Model, Gyrosco
 use crate::lie::{LieGroup, So2, So3};
 use crate::solve::SolveError;
 
+/// What a built model becomes: the simulation's engine ([`Engines`]), or
+/// the typed model of the analyses (`super::analysis::Analyses`).
+pub(crate) trait Make {
+    /// The product.
+    type Out;
+    /// The product of `system` from `y0` over `span`, with its chart equations.
+    fn make<S: Observe>(system: S, y0: S::State, span: (f64, f64), chart: Option<Box<dyn ChartTwin<S>>>) -> Result<Self::Out, SolveError>;
+}
+
+/// The engine of a [`Simulation`](super::Simulation).
+pub(crate) struct Engines;
+
+impl Make for Engines {
+    type Out = Box<dyn DynEngine>;
+    fn make<S: Observe>(system: S, y0: S::State, span: (f64, f64), chart: Option<Box<dyn ChartTwin<S>>>) -> Result<Self::Out, SolveError> {
+        boxed(system, y0, span, chart)
+    }
+}
+
 impl Scene {
     /// The engine of a body on the surface `m` (two frame vectors in ℝ³)
     /// with the potential `pot`: every body kind, generic over the bundle.
@@ -30,7 +49,7 @@ impl Scene {
     /// `chart`: the manifold's chart geometry ([`coords`](crate::coords)),
     /// if it has one, for the coordinate methods (points, gyroscopes and
     /// affine bodies get their chart equations from it).
-    pub(crate) fn surface_engine<B, C>(&self, m: B, pot: Potential2, span: (f64, f64), chart: Option<C>) -> Result<Box<dyn DynEngine>, SceneError>
+    pub(crate) fn surface_engine<K: Make, B, C>(&self, m: B, pot: Potential2, span: (f64, f64), chart: Option<C>) -> Result<K::Out, SceneError>
     where
         B: FrameBundle<2, 3> + Clone + Send + 'static,
         C: ChartGeometry<2, 3> + 'static,
@@ -52,7 +71,7 @@ impl Scene {
                 let twin = chart.map(|c| twin::<_, _, 2, 2, 3>(PointLagrangian::new(c, &body, pot.clone())));
                 let model = PointModel::new(m.clone(), body, pot).map_err(|e| SceneError::from_core("potential", e))?;
                 let y = model.state_from_parts(&init.g, &init.u).map_err(|e| self.state_error(e))?;
-                boxed(model, y, span, twin).map_err(run)
+                K::make(model, y, span, twin).map_err(run)
             }
             BodyKind::Gyroscope => {
                 self.no_internal(&["orientation", "rho", "rho_dot"])?;
@@ -87,20 +106,20 @@ impl Scene {
                     }
                     model.state_from_parts(&init.g, &So2::exp(&nalgebra::Vector1::new(alpha)), &init.u, spin).map_err(|e| self.state_error(e))?
                 };
-                boxed(model, y, span, twin).map_err(run)
+                K::make(model, y, span, twin).map_err(run)
             }
             _ => {
                 let affine_chart = chart.map(|c| move |mass: f64, j: SMatrix<f64, 2, 2>, pot: Potential2| -> crate::Result<Box<dyn ChartTwin<AffineBodyModel<B, Potential2, Unconstrained, 2, 3>>>> {
                     Ok(twin::<_, _, 6, 2, 3>(FrameLagrangian::<C, GlEntries, Potential2, 2, 3, 4, 6>::new(c, GlEntries, mass, j, Signature::Riemannian, pot)?))
                 });
-                self.affine_engine::<B, 2, 3>(m, pot, &init, span, affine_chart)
+                self.affine_engine::<K, B, 2, 3>(m, pot, &init, span, affine_chart)
             }
         }
     }
 
     /// The engine of a body on the three-manifold `m` (three frame vectors in
     /// ℝ⁴) with the potential `pot`: every body kind, generic over the bundle.
-    pub(crate) fn space_engine<B, C>(&self, m: B, pot: Potential3, span: (f64, f64), chart: Option<C>) -> Result<Box<dyn DynEngine>, SceneError>
+    pub(crate) fn space_engine<K: Make, B, C>(&self, m: B, pot: Potential3, span: (f64, f64), chart: Option<C>) -> Result<K::Out, SceneError>
     where
         B: FrameBundle<3, 4> + Clone + Send + 'static,
         C: ChartGeometry<3, 4> + 'static,
@@ -122,7 +141,7 @@ impl Scene {
                 let twin = chart.map(|c| twin::<_, _, 3, 3, 4>(PointLagrangian::new(c, &body, pot.clone())));
                 let model = PointModel::new(m, body, pot).map_err(|e| SceneError::from_core("potential", e))?;
                 let y = model.state_from_parts(&init.g, &init.u).map_err(|e| self.state_error(e))?;
-                boxed(model, y, span, twin).map_err(run)
+                K::make(model, y, span, twin).map_err(run)
             }
             BodyKind::Gyroscope => {
                 self.no_internal(&["alpha", "rho", "rho_dot"])?;
@@ -158,13 +177,13 @@ impl Scene {
                     let rho = So3::exp(&rv);
                     model.state_from_parts(&init.g, &rho, &init.u, &(rho.matrix() * spin_e)).map_err(|e| self.state_error(e))?
                 };
-                boxed(model, y, span, twin).map_err(run)
+                K::make(model, y, span, twin).map_err(run)
             }
             _ => {
                 let affine_chart = chart.map(|c| move |mass: f64, j: SMatrix<f64, 3, 3>, pot: Potential3| -> crate::Result<Box<dyn ChartTwin<AffineBodyModel<B, Potential3, Unconstrained, 3, 4>>>> {
                     Ok(twin::<_, _, 12, 3, 4>(FrameLagrangian::<C, GlEntries, Potential3, 3, 4, 9, 12>::new(c, GlEntries, mass, j, Signature::Riemannian, pot)?))
                 });
-                self.affine_engine::<B, 3, 4>(m, pot, &init, span, affine_chart)
+                self.affine_engine::<K, B, 3, 4>(m, pot, &init, span, affine_chart)
             }
         }
     }
@@ -172,14 +191,14 @@ impl Scene {
     /// The engine of an affine body (any constraint); `chart` builds the
     /// chart equations of the unconstrained body from its mass, inertia and
     /// potential (the constrained bodies have none here).
-    fn affine_engine<B, const N: usize, const E: usize>(
+    fn affine_engine<K: Make, B, const N: usize, const E: usize>(
         &self,
         m: B,
         pot: <Self as PotFor<N, E>>::Pot,
         init: &Init<B, N, E>,
         span: (f64, f64),
         chart: Option<impl FnOnce(f64, SMatrix<f64, N, N>, <Self as PotFor<N, E>>::Pot) -> crate::Result<Box<dyn ChartTwin<AffineBodyModel<B, <Self as PotFor<N, E>>::Pot, Unconstrained, N, E>>>>>,
-    ) -> Result<Box<dyn DynEngine>, SceneError>
+    ) -> Result<K::Out, SceneError>
     where
         Self: PotFor<N, E>,
         B: FrameBundle<N, E> + Clone + Send + 'static,
@@ -219,7 +238,7 @@ impl Scene {
                 let body = <$body>::new(b.mass, j).map_err(|e| self.body_error(e))?;
                 let model = AffineBodyModel::<B, _, $c, N, E>::new(m, body, pot).map_err(|e| self.body_error(e))?;
                 let y = model.state(&init.g, &rho, &init.u, &rho_dot).map_err(|e| self.state_error(e))?;
-                boxed(model, y, span, None).map_err(run)
+                K::make(model, y, span, None).map_err(run)
             }};
         }
         match b.kind {
@@ -231,7 +250,7 @@ impl Scene {
                 };
                 let model = AffineBodyModel::<B, _, Unconstrained, N, E>::new(m, body, pot).map_err(|e| self.body_error(e))?;
                 let y = model.state(&init.g, &rho, &init.u, &rho_dot).map_err(|e| self.state_error(e))?;
-                boxed(model, y, span, twin).map_err(run)
+                K::make(model, y, span, twin).map_err(run)
             }
             BodyKind::Incompressible => go!(Incompressible<N>, Isochoric),
             BodyKind::Weyl => go!(Weyl<N>, Conformal),

@@ -12,7 +12,7 @@ use super::chart::NoChart;
 use super::error::SceneError;
 use super::potential::{build_potential2, build_potential3, Potential2, Potential3, SpacePotentials, SurfacePotentials, UserFunctions, UserPotential};
 use super::scene::Scene;
-use super::simulation::DynEngine;
+use super::build::Make;
 use super::spec::BodyKind;
 use crate::coords::{HyperbolicChart, Sphere3Chart, SphereChart, TorusChart};
 use crate::manifold::{Hyperbolic2, Sphere2, Sphere3, Spheroid, Torus2};
@@ -125,7 +125,7 @@ impl ManifoldSpec {
 impl Scene {
     /// The engine of this scene's body on its manifold, with the scene's
     /// potential plus the user potential, if any, over `span`.
-    pub(crate) fn build_engine(&self, user: Option<UserFunctions>, span: &(f64, f64)) -> Result<Box<dyn DynEngine>, SceneError> {
+    pub(crate) fn build_engine<K: Make>(&self, user: Option<UserFunctions>, span: &(f64, f64)) -> Result<K::Out, SceneError> {
         let ms = &self.manifold;
         let span = *span;
         let user2 = |pot: Potential2, length: f64| -> Result<Potential2, SceneError> {
@@ -148,7 +148,7 @@ impl Scene {
                 let ctx = SurfacePotentials { name: "S2", centre: Some(&centre), torus: None, cosine: None, length: m.radius() };
                 let pot = user2(build_potential2(&self.potential, "potential", &ctx)?, ctx.length)?;
                 let chart = SphereChart::new(m.radius()).map_err(|e| SceneError::from_core("manifold.radius", e))?;
-                self.surface_engine(m, pot, span, Some(chart))
+                self.surface_engine::<K, _, _>(m, pot, span, Some(chart))
             }
             ManifoldKind::H2 => {
                 ms.only(ms.kind.fields())?;
@@ -160,7 +160,7 @@ impl Scene {
                 let ctx = SurfacePotentials { name: "H2", centre: Some(&centre), torus: None, cosine: None, length: m.radius() };
                 let pot = user2(build_potential2(&self.potential, "potential", &ctx)?, ctx.length)?;
                 let chart = HyperbolicChart::new(m.radius()).map_err(|e| SceneError::from_core("manifold.radius", e))?;
-                self.surface_engine(m, pot, span, Some(chart))
+                self.surface_engine::<K, _, _>(m, pot, span, Some(chart))
             }
             ManifoldKind::T2 => {
                 ms.only(ms.kind.fields())?;
@@ -171,7 +171,7 @@ impl Scene {
                 let ctx = SurfacePotentials { name: "T2", centre: None, torus: Some(angle), cosine: None, length: r };
                 let pot = user2(build_potential2(&self.potential, "potential", &ctx)?, ctx.length)?;
                 let chart = TorusChart::new(l, r).map_err(|e| SceneError::from_core("manifold", e))?;
-                self.surface_engine(m, pot, span, Some(chart))
+                self.surface_engine::<K, _, _>(m, pot, span, Some(chart))
             }
             ManifoldKind::S3 => {
                 ms.only(ms.kind.fields())?;
@@ -190,7 +190,7 @@ impl Scene {
                     ]),
                 };
                 let chart = Sphere3Chart::new(m.radius()).map_err(|e| SceneError::from_core("manifold.radius", e))?;
-                self.space_engine(m, pot, span, Some(chart))
+                self.space_engine::<K, _, _>(m, pot, span, Some(chart))
             }
             ManifoldKind::Spheroid => {
                 ms.only(ms.kind.fields())?;
@@ -203,7 +203,7 @@ impl Scene {
                 let axis = Centre::sphere2(&Sphere2::new(c).map_err(|e| SceneError::from_core("manifold.polar_radius", e))?);
                 let ctx = SurfacePotentials { name: "spheroid", centre: None, torus: None, cosine: Some(axis), length: a.min(c) };
                 let pot = user2(build_potential2(&self.potential, "potential", &ctx)?, ctx.length)?;
-                self.surface_engine(m, pot, span, None::<NoChart>)
+                self.surface_engine::<K, _, _>(m, pot, span, None::<NoChart>)
             }
         }
     }

@@ -118,6 +118,7 @@
 //! | `momentum_map` | `p_phi` (rotations about the ambient z axis; S², H², T²) or `J_ab` (the rotation in the `(a, b)` plane of ℝ⁴; S³) | M L²/T |
 //! | `defect` | `defect`: distance of the state from its constraints | 1 |
 
+mod analysis;
 mod build;
 mod chart;
 mod ensemble;
@@ -137,6 +138,7 @@ mod sink;
 pub mod spec;
 mod summary;
 
+pub use analysis::{SceneAnalysisError, Section};
 pub use error::{Location, RunError, SceneError};
 pub use ensemble::{run_ensemble, run_ensemble_blocks, worker_threads, Ensemble, EnsembleOptions, Keep, MemberOutcome, MemberStatus, Table};
 pub use examples::{example, DEFAULT_SCENE, EXAMPLES};

@@ -176,7 +176,7 @@ impl Scene {
         let mut probe = self.clone();
         probe.method = MethodSpec::default();
         probe.events.clear();
-        let engine = probe.build_engine(None, &super::plan::probe_span(&self.time)).map_err(|e| self.locate(e))?;
+        let engine = probe.build_engine::<super::build::Engines>(None, &super::plan::probe_span(&self.time)).map_err(|e| self.locate(e))?;
         Ok(crate::method::METHODS.iter().filter(|m| engine.supports(m.needs)).map(|m| m.name).collect())
     }
 
@@ -281,7 +281,7 @@ impl Scene {
     /// The engine of the manifold × body over the plan's span, checked to be
     /// one the plan's method can integrate.
     pub(crate) fn planned_engine(&self, user: Option<UserFunctions>, plan: &super::plan::Plan) -> Result<Box<dyn super::simulation::DynEngine>, SceneError> {
-        let engine = self.build_engine(user, &(plan.t0, plan.t_end))?;
+        let engine = self.build_engine::<super::build::Engines>(user, &(plan.t0, plan.t_end))?;
         if !engine.supports(plan.entry.needs) {
             let allowed: Vec<&str> = crate::method::METHODS.iter().filter(|m| engine.supports(m.needs)).map(|m| m.name).collect();
             return Err(SceneError::invalid(

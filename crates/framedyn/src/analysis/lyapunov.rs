@@ -1,0 +1,374 @@
+//! Lyapunov exponents: Benettin's discrete-QR spectrum on the tangent map,
+//! and the two-trajectory estimate of the maximal exponent (see the
+//! [module documentation](super)).
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use nalgebra::DMatrix;
+
+use super::tangent::{step_with_tangents, Linearisation};
+use super::AnalysisError;
+use crate::dynamics::System;
+use crate::lie::LieGroup;
+use crate::method::{GroupNumerics, Method, StepRequest};
+use crate::solve::fault_error;
+
+/// Settings of [`lyapunov_spectrum`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LyapunovOptions {
+    /// Fixed step `h > 0`.
+    pub h: f64,
+    /// Integration time `T > 0` (including the transient); `round(T/h)` steps
+    /// of equal size.
+    pub duration: f64,
+    /// Number `k` of exponents, `1 ≤ k ≤ DOF` (the largest `k`).
+    pub exponents: usize,
+    /// Steps between re-orthonormalisations (≥ 1).
+    pub renormalise_every: usize,
+    /// Time at the start, `0 ≤ transient < duration`, over which the frame is
+    /// carried and re-orthonormalised but nothing is averaged.
+    pub transient: f64,
+    /// Number of batches of the batch-means standard error (≥ 2; at least
+    /// one re-orthonormalisation per batch).
+    pub batches: usize,
+    /// Seed of the random initial orthonormal frame.
+    pub seed: u64,
+    /// The linearisation of the one-step map.
+    pub linearisation: Linearisation,
+}
+
+impl LyapunovOptions {
+    /// All defaults but the step and the duration: the largest exponent,
+    /// re-orthonormalised every 10 steps, no transient, 10 batches.
+    pub fn new(h: f64, duration: f64) -> Self {
+        LyapunovOptions { h, duration, exponents: 1, renormalise_every: 10, transient: 0.0, batches: 10, seed: 1, linearisation: Linearisation::default() }
+    }
+
+    /// With `k` exponents.
+    pub fn exponents(mut self, k: usize) -> Self {
+        self.exponents = k;
+        self
+    }
+
+    fn steps(&self, dof: usize) -> Result<usize, AnalysisError> {
+        check_common(self.h, self.duration, self.transient, self.renormalise_every, self.batches)?;
+        self.linearisation.validate()?;
+        if !(1..=dof).contains(&self.exponents) {
+            return Err(AnalysisError::invalid("exponents", self.exponents, format!("between 1 and {dof} (the state group's dimension)")));
+        }
+        count(self.h, self.duration, self.transient, self.renormalise_every, self.batches)
+    }
+}
+
+fn check_common(h: f64, duration: f64, transient: f64, every: usize, batches: usize) -> Result<(), AnalysisError> {
+    if !(h.is_finite() && h > 0.0) {
+        return Err(AnalysisError::invalid("h", h, "finite and > 0"));
+    }
+    if !(duration.is_finite() && duration > 0.0) {
+        return Err(AnalysisError::invalid("duration", duration, "finite and > 0"));
+    }
+    if !(transient.is_finite() && transient >= 0.0 && transient < duration) {
+        return Err(AnalysisError::invalid("transient", transient, format!("finite, ≥ 0 and < duration = {duration}")));
+    }
+    if every == 0 {
+        return Err(AnalysisError::invalid("renormalise_every", every, "≥ 1 step"));
+    }
+    if batches < 2 {
+        return Err(AnalysisError::invalid("batches", batches, "≥ 2"));
+    }
+    Ok(())
+}
+
+/// The number of steps, checked to leave at least one re-orthonormalisation
+/// per batch after the transient.
+fn count(h: f64, duration: f64, transient: f64, every: usize, batches: usize) -> Result<usize, AnalysisError> {
+    let n = (duration / h).round().max(1.0);
+    if n > 1e9 {
+        return Err(AnalysisError::invalid("h", h, format!("≥ duration/1e9 = {:e} (at most 1e9 steps)", duration / 1e9)));
+    }
+    let n = n as usize;
+    // After a transient, the first re-orthonormalisation past it starts the averages.
+    let averaged = (((duration - transient) / h).floor() as usize / every).saturating_sub(usize::from(transient > 0.0));
+    if averaged < batches {
+        return Err(AnalysisError::invalid(
+            "duration",
+            duration,
+            format!("long enough for {batches} batches of re-orthonormalisations after the transient (now {averaged} of every {every} steps of h = {h})"),
+        ));
+    }
+    Ok(n)
+}
+
+/// Exponents and their diagnostics.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LyapunovEstimate {
+    /// The exponents, largest first (1/time units of the scene).
+    pub exponents: Vec<f64>,
+    /// Standard error of each by batch means: the standard deviation of the
+    /// batches' exponents over √batches.
+    pub stderr: Vec<f64>,
+    /// Spread of each running estimate over the second half of the averaging
+    /// (max − min): how far from converged.
+    pub spread: Vec<f64>,
+    /// Times of the running estimates (every re-orthonormalisation after the
+    /// transient).
+    pub times: Vec<f64>,
+    /// The running estimates at `times`, one row of `k` exponents per time.
+    pub running: Vec<Vec<f64>>,
+    /// Steps taken.
+    pub steps: usize,
+    /// Steps of the method per step (1 + tangent columns × difference steps).
+    pub steps_per_step: usize,
+}
+
+/// A deterministic pseudo-random orthonormal `rows × k` frame (xorshift64*).
+fn random_frame(rows: usize, k: usize, seed: u64) -> DMatrix<f64> {
+    let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    let mut next = || {
+        s ^= s >> 12;
+        s ^= s << 25;
+        s ^= s >> 27;
+        (s.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let mut m = DMatrix::from_fn(rows, k, |_, _| next());
+    // A random matrix has full column rank; Gram–Schmidt cannot fail here.
+    let _ = orthonormalise(&mut m, 0.0);
+    m
+}
+
+/// Modified Gram–Schmidt with one re-orthogonalisation pass, in place; the
+/// norms `|R_ii|`. Fails on a column that vanishes or is not finite.
+fn orthonormalise(m: &mut DMatrix<f64>, t: f64) -> Result<Vec<f64>, AnalysisError> {
+    let k = m.ncols();
+    let mut r = Vec::with_capacity(k);
+    for j in 0..k {
+        for _pass in 0..2 {
+            for i in 0..j {
+                let p = m.column(i).dot(&m.column(j));
+                let ci = m.column(i).clone_owned();
+                m.column_mut(j).axpy(-p, &ci, 1.0);
+            }
+        }
+        let n = m.column(j).norm();
+        if !(n.is_finite() && n > 0.0) {
+            return Err(AnalysisError::Degenerate { column: j, t, norm: n });
+        }
+        m.column_mut(j).unscale_mut(n);
+        r.push(n);
+    }
+    Ok(r)
+}
+
+/// The running sums of `log |R_ii|` at each re-orthonormalisation after the
+/// transient, turned into estimates and diagnostics.
+struct Accumulator {
+    t_start: f64,
+    sums: Vec<f64>,
+    times: Vec<f64>,
+    cumulative: Vec<Vec<f64>>,
+}
+
+impl Accumulator {
+    fn new(k: usize, t_start: f64) -> Self {
+        Accumulator { t_start, sums: vec![0.0; k], times: Vec::new(), cumulative: Vec::new() }
+    }
+
+    fn add(&mut self, t: f64, logs: impl Iterator<Item = f64>) {
+        for (s, l) in self.sums.iter_mut().zip(logs) {
+            *s += l;
+        }
+        self.times.push(t);
+        self.cumulative.push(self.sums.clone());
+    }
+
+    /// `(estimates, stderr, spread, times, running)`.
+    #[allow(clippy::type_complexity)]
+    fn finish(self, batches: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<Vec<f64>>) {
+        let k = self.sums.len();
+        let n = self.times.len();
+        let running: Vec<Vec<f64>> = self.times.iter().zip(&self.cumulative).map(|(t, s)| s.iter().map(|x| x / (t - self.t_start)).collect()).collect();
+        let estimates = running.last().cloned().unwrap_or_else(|| vec![f64::NAN; k]);
+        let mut stderr = vec![0.0; k];
+        let mut spread = vec![0.0; k];
+        // Batch b spans the re-orthonormalisations (b·n/B, (b+1)·n/B].
+        let at = |i: Option<usize>| -> (f64, Vec<f64>) {
+            match i {
+                None => (self.t_start, vec![0.0; k]),
+                Some(i) => (self.times[i], self.cumulative[i].clone()),
+            }
+        };
+        for c in 0..k {
+            let mut values = Vec::with_capacity(batches);
+            for b in 0..batches {
+                let lo = (b * n / batches).checked_sub(1);
+                let hi = ((b + 1) * n / batches).checked_sub(1);
+                let (t0, s0) = at(lo);
+                let (t1, s1) = at(hi);
+                values.push((s1[c] - s0[c]) / (t1 - t0));
+            }
+            let mean = values.iter().sum::<f64>() / batches as f64;
+            let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (batches - 1) as f64;
+            stderr[c] = (var / batches as f64).sqrt();
+            let half = &running[n / 2..];
+            let (lo, hi) = half.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| (lo.min(r[c]), hi.max(r[c])));
+            spread[c] = hi - lo;
+        }
+        (estimates, stderr, spread, self.times, running)
+    }
+}
+
+fn cancelled(cancel: Option<&AtomicBool>) -> bool {
+    cancel.is_some_and(|c| c.load(Ordering::Relaxed))
+}
+
+/// The `k` largest Lyapunov exponents of the trajectory of `method` from
+/// `(t0, y0)` (Benettin's discrete QR on the tangent map of the one-step
+/// map; see the [module documentation](super)). `cancel` is polled every step.
+pub fn lyapunov_spectrum<S, M>(system: &S, method: &M, t0: f64, y0: &S::State, opts: &LyapunovOptions, cancel: Option<&AtomicBool>) -> Result<LyapunovEstimate, AnalysisError>
+where
+    S: System,
+    S::State: GroupNumerics,
+    M: Method<S>,
+{
+    let dof = S::State::DOF;
+    let n = opts.steps(dof)?;
+    if !t0.is_finite() {
+        return Err(AnalysisError::invalid("t0", t0, "finite"));
+    }
+    if !crate::solve::state_is_finite(y0) {
+        return Err(AnalysisError::Solve(crate::solve::SolveError::InvalidInitialState { defect: y0.constraint_defect() }));
+    }
+    let h = opts.duration / n as f64;
+    let mut cols = random_frame(dof, opts.exponents, opts.seed);
+    let mut y = *y0;
+    let mut t = t0;
+    let t_avg = t0 + opts.transient;
+    let mut acc = (opts.transient == 0.0).then(|| Accumulator::new(opts.exponents, t0));
+    for i in 0..n {
+        if cancelled(cancel) {
+            return Err(AnalysisError::Cancelled { t });
+        }
+        let t1 = t0 + h * (i + 1) as f64;
+        y = step_with_tangents(system, method, t, &y, t1 - t, &mut cols, &opts.linearisation)?;
+        t = t1;
+        if (i + 1) % opts.renormalise_every == 0 || i + 1 == n {
+            let r = orthonormalise(&mut cols, t)?;
+            match &mut acc {
+                Some(a) => a.add(t, r.iter().map(|x| x.ln())),
+                None if t >= t_avg - 0.5 * h => acc = Some(Accumulator::new(opts.exponents, t)),
+                None => {}
+            }
+        }
+    }
+    let acc = acc.ok_or_else(|| AnalysisError::invalid("transient", opts.transient, "shorter than the run"))?;
+    let (exponents, stderr, spread, times, running) = acc.finish(opts.batches);
+    Ok(LyapunovEstimate { exponents, stderr, spread, times, running, steps: n, steps_per_step: 1 + opts.exponents * opts.linearisation.steps_per_column() })
+}
+
+/// Settings of [`two_trajectory`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TwoTrajectoryOptions {
+    /// Fixed step `h > 0`.
+    pub h: f64,
+    /// Integration time `T > 0` (including the transient).
+    pub duration: f64,
+    /// The separation `d₀` the companion is renormalised to (algebra
+    /// units), `0 < d₀ ≤ 1e-3`.
+    pub separation: f64,
+    /// Steps between renormalisations (≥ 1).
+    pub renormalise_every: usize,
+    /// Time at the start over which nothing is averaged.
+    pub transient: f64,
+    /// Batches of the batch-means standard error (≥ 2).
+    pub batches: usize,
+    /// Seed of the random initial direction.
+    pub seed: u64,
+}
+
+impl TwoTrajectoryOptions {
+    /// `d₀ = 1e-8`, renormalised every 10 steps, no transient, 10 batches.
+    pub fn new(h: f64, duration: f64) -> Self {
+        TwoTrajectoryOptions { h, duration, separation: 1e-8, renormalise_every: 10, transient: 0.0, batches: 10, seed: 1 }
+    }
+}
+
+/// The maximal exponent from two nearby trajectories.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TwoTrajectoryEstimate {
+    /// The estimate.
+    pub exponent: f64,
+    /// Its standard error by batch means.
+    pub stderr: f64,
+    /// Spread of the running estimate over the second half (max − min).
+    pub spread: f64,
+    /// Times of the running estimates.
+    pub times: Vec<f64>,
+    /// The running estimates.
+    pub running: Vec<f64>,
+    /// Steps taken (of each trajectory).
+    pub steps: usize,
+}
+
+/// The maximal Lyapunov exponent from the separation of the trajectory of
+/// `(t0, y0)` and a companion `y·exp(d₀ ξ)` (left-trivialised separation
+/// `|log(y⁻¹ z)|` in algebra coordinates), both stepped by `method`, the
+/// companion pulled back to distance `d₀` along the current separation
+/// every `renormalise_every` steps (Benettin, Galgani, Strelcyn 1976). It
+/// does not use the tangent map: an independent check of
+/// [`lyapunov_spectrum`].
+pub fn two_trajectory<S, M>(system: &S, method: &M, t0: f64, y0: &S::State, opts: &TwoTrajectoryOptions, cancel: Option<&AtomicBool>) -> Result<TwoTrajectoryEstimate, AnalysisError>
+where
+    S: System,
+    S::State: GroupNumerics,
+    M: Method<S>,
+{
+    check_common(opts.h, opts.duration, opts.transient, opts.renormalise_every, opts.batches)?;
+    if !(opts.separation.is_finite() && opts.separation > 0.0 && opts.separation <= 1e-3) {
+        return Err(AnalysisError::invalid("separation", opts.separation, "finite, > 0 and ≤ 1e-3"));
+    }
+    let n = count(opts.h, opts.duration, opts.transient, opts.renormalise_every, opts.batches)?;
+    if !t0.is_finite() {
+        return Err(AnalysisError::invalid("t0", t0, "finite"));
+    }
+    if !crate::solve::state_is_finite(y0) {
+        return Err(AnalysisError::Solve(crate::solve::SolveError::InvalidInitialState { defect: y0.constraint_defect() }));
+    }
+    let dof = S::State::DOF;
+    let d0 = opts.separation;
+    let h = opts.duration / n as f64;
+    let dir = random_frame(dof, 1, opts.seed);
+    let along = |y: &S::State, d: &[f64]| y.compose(&S::State::exp(&S::State::algebra_from_coords(d)));
+    let scaled: Vec<f64> = dir.iter().map(|x| x * d0).collect();
+    let mut y = *y0;
+    let mut z = along(y0, &scaled);
+    let mut t = t0;
+    let t_avg = t0 + opts.transient;
+    let mut acc = (opts.transient == 0.0).then(|| Accumulator::new(1, t0));
+    let step = |t: f64, y: &S::State, h: f64| method.step(system, t, y, h, StepRequest::plain()).map(|o| o.y).map_err(|f| AnalysisError::Solve(fault_error(f, t, h)));
+    for i in 0..n {
+        if cancelled(cancel) {
+            return Err(AnalysisError::Cancelled { t });
+        }
+        let t1 = t0 + h * (i + 1) as f64;
+        y = step(t, &y, t1 - t)?;
+        z = step(t, &z, t1 - t)?;
+        t = t1;
+        if (i + 1) % opts.renormalise_every == 0 || i + 1 == n {
+            let sep = S::State::algebra_coords(&y.inverse().compose(&z).log()?);
+            let d = sep.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if !(d.is_finite() && d > 0.0) {
+                return Err(AnalysisError::Degenerate { column: 0, t, norm: d });
+            }
+            let back: Vec<f64> = sep.iter().map(|x| x * (d0 / d)).collect();
+            z = along(&y, &back);
+            match &mut acc {
+                Some(a) => a.add(t, std::iter::once((d / d0).ln())),
+                None if t >= t_avg - 0.5 * h => acc = Some(Accumulator::new(1, t)),
+                None => {}
+            }
+        }
+    }
+    let acc = acc.ok_or_else(|| AnalysisError::invalid("transient", opts.transient, "shorter than the run"))?;
+    let (e, se, sp, times, running) = acc.finish(opts.batches);
+    Ok(TwoTrajectoryEstimate { exponent: e[0], stderr: se[0], spread: sp[0], times, running: running.into_iter().map(|r| r[0]).collect(), steps: n })
+}

@@ -1,0 +1,200 @@
+//! The tangent map of a method's one-step map, in the left trivialisation
+//! (see the [module documentation](super)).
+
+use nalgebra::{DMatrix, DVector};
+
+use super::AnalysisError;
+use crate::dynamics::System;
+use crate::lie::LieGroup;
+use crate::method::{GroupNumerics, Method, StepRequest};
+use crate::solve::fault_error;
+
+/// The difference formula of the directional derivative of the one-step map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Difference {
+    /// `(Φ(+ε) − Φ(−ε))/2ε`: 2 steps per column, error `O(ε²)`.
+    #[default]
+    Central2,
+    /// `(8(Φ(+ε) − Φ(−ε)) − (Φ(+2ε) − Φ(−2ε)))/12ε`: 4 steps per column,
+    /// error `O(ε⁴)`.
+    Central4,
+}
+
+/// How the one-step map is linearised: the difference formula and the
+/// perturbation size `ε` (algebra units: radians for rotations, the state's
+/// own units for the additive components).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Linearisation {
+    /// The difference formula.
+    pub difference: Difference,
+    /// The perturbation size, `0 < ε ≤ 0.1`.
+    pub eps: f64,
+}
+
+impl Default for Linearisation {
+    /// Second-order central differences with `ε = 1e-5`: truncation `~ε²h`
+    /// and round-off `~1e-16/ε`, about `1e-10` relative per step.
+    fn default() -> Self {
+        Linearisation { difference: Difference::Central2, eps: 1e-5 }
+    }
+}
+
+impl Linearisation {
+    /// Fourth-order central differences with `ε = 1e-3` (about `1e-12`
+    /// relative per step, twice the cost of the default).
+    pub fn fourth_order() -> Self {
+        Linearisation { difference: Difference::Central4, eps: 1e-3 }
+    }
+
+    /// Checks `ε`.
+    pub fn validate(&self) -> Result<(), AnalysisError> {
+        if !(self.eps.is_finite() && self.eps > 0.0 && self.eps <= 0.1) {
+            return Err(AnalysisError::invalid("eps", self.eps, "finite, > 0 and ≤ 0.1"));
+        }
+        Ok(())
+    }
+
+    /// Steps of the method per tangent column and step.
+    pub fn steps_per_column(&self) -> usize {
+        match self.difference {
+            Difference::Central2 => 2,
+            Difference::Central4 => 4,
+        }
+    }
+}
+
+/// The state `y₀·exp(ξ)` for algebra coordinates `ξ`.
+fn perturbed<G: LieGroup>(y0: &G, xi: &[f64]) -> G {
+    y0.compose(&G::exp(&G::algebra_from_coords(xi)))
+}
+
+/// Algebra coordinates of `log(y⁻¹·z)` given `y⁻¹`.
+fn difference<G: LieGroup>(y_inv: &G, z: &G) -> Result<DVector<f64>, AnalysisError> {
+    Ok(DVector::from_vec(G::algebra_coords(&y_inv.compose(z).log()?)))
+}
+
+/// One step of `method` from `(t, y0)` with size `h`, and the images of the
+/// tangent columns `cols` (`DOF` rows, algebra coordinates) under the
+/// step's tangent map, written back into `cols`. Returns the new state.
+pub fn step_with_tangents<S, M>(system: &S, method: &M, t: f64, y0: &S::State, h: f64, cols: &mut DMatrix<f64>, lin: &Linearisation) -> Result<S::State, AnalysisError>
+where
+    S: System,
+    S::State: GroupNumerics,
+    M: Method<S>,
+{
+    let step = |y: &S::State| method.step(system, t, y, h, StepRequest::plain()).map(|o| o.y).map_err(|f| AnalysisError::Solve(fault_error(f, t, h)));
+    let y1 = step(y0)?;
+    let y1_inv = y1.inverse();
+    let mut xi = vec![0.0; S::State::DOF];
+    for j in 0..cols.ncols() {
+        let n = cols.column(j).norm();
+        if n == 0.0 {
+            continue;
+        }
+        // The image of y₀·exp(s·c/|c|), relative to y₁, for s = k·ε.
+        let mut image = |k: f64| -> Result<DVector<f64>, AnalysisError> {
+            let s = k * lin.eps / n;
+            for (x, c) in xi.iter_mut().zip(cols.column(j).iter()) {
+                *x = s * c;
+            }
+            difference(&y1_inv, &step(&perturbed(y0, &xi))?)
+        };
+        let d = match lin.difference {
+            Difference::Central2 => (image(1.0)? - image(-1.0)?) * (n / (2.0 * lin.eps)),
+            Difference::Central4 => {
+                let near = image(1.0)? - image(-1.0)?;
+                let far = image(2.0)? - image(-2.0)?;
+                (near * 8.0 - far) * (n / (12.0 * lin.eps))
+            }
+        };
+        cols.set_column(j, &d);
+    }
+    Ok(y1)
+}
+
+/// A trajectory with tangent vectors carried along: fixed steps of a method
+/// and the tangent map of each step (see the [module documentation](super)).
+#[derive(Debug, Clone)]
+pub struct TangentFlow<'a, S: System, M> {
+    system: &'a S,
+    method: &'a M,
+    lin: Linearisation,
+    t: f64,
+    y: S::State,
+    cols: DMatrix<f64>,
+}
+
+impl<'a, S, M> TangentFlow<'a, S, M>
+where
+    S: System,
+    S::State: GroupNumerics,
+    M: Method<S>,
+{
+    /// A trajectory from `(t0, y0)` with tangent columns `cols` (`DOF` rows,
+    /// algebra coordinates of `ξ` in `δy = y·ξ`; any number of columns).
+    pub fn new(system: &'a S, method: &'a M, t0: f64, y0: S::State, cols: DMatrix<f64>, lin: Linearisation) -> Result<Self, AnalysisError> {
+        lin.validate()?;
+        if !t0.is_finite() {
+            return Err(AnalysisError::invalid("t0", t0, "finite"));
+        }
+        if !crate::solve::state_is_finite(&y0) {
+            return Err(AnalysisError::Solve(crate::solve::SolveError::InvalidInitialState { defect: y0.constraint_defect() }));
+        }
+        if cols.nrows() != S::State::DOF {
+            return Err(AnalysisError::invalid("columns", format!("{} rows", cols.nrows()), format!("{} rows (the state group's dimension)", S::State::DOF)));
+        }
+        if cols.iter().any(|x| !x.is_finite()) {
+            return Err(AnalysisError::invalid("columns", "(a non-finite entry)", "finite"));
+        }
+        Ok(TangentFlow { system, method, lin, t: t0, y: y0, cols })
+    }
+
+    /// One step of size `h` (finite, ≠ 0). A failed step leaves everything unchanged.
+    pub fn step(&mut self, h: f64) -> Result<(), AnalysisError> {
+        if !(h.is_finite() && h != 0.0) {
+            return Err(AnalysisError::invalid("h", h, "finite and ≠ 0"));
+        }
+        let mut cols = self.cols.clone();
+        let y = step_with_tangents(self.system, self.method, self.t, &self.y, h, &mut cols, &self.lin)?;
+        self.y = y;
+        self.cols = cols;
+        self.t += h;
+        Ok(())
+    }
+
+    /// Current time.
+    pub fn t(&self) -> f64 {
+        self.t
+    }
+    /// Current state.
+    pub fn state(&self) -> &S::State {
+        &self.y
+    }
+    /// The tangent columns at the current state.
+    pub fn columns(&self) -> &DMatrix<f64> {
+        &self.cols
+    }
+    /// The tangent columns, mutably (re-orthonormalisation).
+    pub fn columns_mut(&mut self) -> &mut DMatrix<f64> {
+        &mut self.cols
+    }
+}
+
+/// The derivative of the `n`-step map of `method` (steps `h`) at `y0`, in
+/// the left trivialisation at both ends: the `DOF × DOF` matrix `D` with
+/// `Φ(y₀·exp(ξ)) = Φ(y₀)·exp(Dξ + O(|ξ|²))`. Also returns the final state.
+pub fn flow_derivative<S, M>(system: &S, method: &M, t0: f64, y0: &S::State, h: f64, n: usize, lin: &Linearisation) -> Result<(DMatrix<f64>, S::State), AnalysisError>
+where
+    S: System,
+    S::State: GroupNumerics,
+    M: Method<S>,
+{
+    let dof = S::State::DOF;
+    let mut flow = TangentFlow::new(system, method, t0, *y0, DMatrix::identity(dof, dof), *lin)?;
+    for i in 0..n {
+        let t1 = t0 + h * (i + 1) as f64;
+        let hi = t1 - flow.t();
+        flow.step(hi)?;
+    }
+    Ok((flow.cols, flow.y))
+}

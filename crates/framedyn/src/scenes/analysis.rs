@@ -1,0 +1,232 @@
+//! The analyses of [`crate::analysis`] on a scene: its model, initial state,
+//! method and fixed step, type-erased like the simulation's engine.
+
+use std::sync::atomic::AtomicBool;
+
+use super::build::Make;
+use super::chart::ChartTwin;
+use super::error::SceneError;
+use super::observe::Observe;
+use super::scene::Scene;
+use crate::analysis::{lyapunov_spectrum, two_trajectory, AnalysisError, LyapunovEstimate, LyapunovOptions, TwoTrajectoryEstimate, TwoTrajectoryOptions};
+use crate::lie::LieGroup;
+use crate::method::registry::{AnyMethod, Built, Needs};
+use crate::solve::{SolveError, StepSize};
+
+/// The object-safe face of a typed model for the analyses.
+pub(crate) trait DynAnalysis: Send {
+    fn dof(&self) -> usize;
+    fn supports(&self, needs: Needs) -> bool;
+    fn lyapunov(&self, method: &AnyMethod, t0: f64, opts: &LyapunovOptions, cancel: &AtomicBool) -> Result<LyapunovEstimate, AnalysisError>;
+    fn two_trajectory(&self, method: &AnyMethod, t0: f64, opts: &TwoTrajectoryOptions, cancel: &AtomicBool) -> Result<TwoTrajectoryEstimate, AnalysisError>;
+}
+
+struct Typed<S: Observe> {
+    system: S,
+    y0: S::State,
+}
+
+impl<S: Observe> DynAnalysis for Typed<S> {
+    fn dof(&self) -> usize {
+        S::State::DOF
+    }
+    fn supports(&self, needs: Needs) -> bool {
+        match needs {
+            Needs::Nothing => true,
+            Needs::ExactFreeFlow => self.system.as_splittable().is_some(),
+            Needs::Chart => false,
+        }
+    }
+    fn lyapunov(&self, method: &AnyMethod, t0: f64, opts: &LyapunovOptions, cancel: &AtomicBool) -> Result<LyapunovEstimate, AnalysisError> {
+        lyapunov_spectrum(&self.system, method, t0, &self.y0, opts, Some(cancel))
+    }
+    fn two_trajectory(&self, method: &AnyMethod, t0: f64, opts: &TwoTrajectoryOptions, cancel: &AtomicBool) -> Result<TwoTrajectoryEstimate, AnalysisError> {
+        two_trajectory(&self.system, method, t0, &self.y0, opts, Some(cancel))
+    }
+}
+
+/// The typed model of a scene for the analyses.
+pub(crate) struct Analyses;
+
+impl Make for Analyses {
+    type Out = Box<dyn DynAnalysis>;
+    fn make<S: Observe>(system: S, y0: S::State, _span: (f64, f64), _chart: Option<Box<dyn ChartTwin<S>>>) -> Result<Self::Out, SolveError> {
+        if !crate::solve::state_is_finite(&y0) {
+            return Err(SolveError::InvalidInitialState { defect: y0.constraint_defect() });
+        }
+        Ok(Box::new(Typed { system, y0 }))
+    }
+}
+
+/// Why an analysis of a scene failed: the scene (invalid or unsuitable:
+/// exit code 3 of the command line) or the analysis (its options, or a
+/// failed step: exit code 4).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SceneAnalysisError {
+    /// The scene is invalid, or its method or step cannot be used.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// The analysis failed.
+    #[error(transparent)]
+    Analysis(#[from] AnalysisError),
+}
+
+/// The scene's model, method, `t₀` and fixed step.
+struct Prepared {
+    model: Box<dyn DynAnalysis>,
+    method: AnyMethod,
+    t0: f64,
+    h: f64,
+    duration: f64,
+}
+
+impl Scene {
+    fn prepare_analysis(&self) -> Result<Prepared, SceneError> {
+        let plan = self.plan().map_err(|e| self.locate(e))?;
+        let model = self.build_engine::<Analyses>(None, &(plan.t0, plan.t_end)).map_err(|e| self.locate(e))?;
+        let method = match plan.method {
+            Built::Group(m) => m,
+            Built::Chart(_) => {
+                return Err(self.locate(SceneError::invalid(
+                    "method.name",
+                    format!("\"{}\"", plan.entry.name),
+                    "a Lie-group method: tangent vectors live in the state group's algebra, the coordinate methods have none",
+                )))
+            }
+        };
+        if !model.supports(plan.entry.needs) {
+            return Err(self.locate(SceneError::invalid("method.name", format!("\"{}\"", plan.entry.name), format!("a method this model can take (it needs {})", plan.entry.needs.describe()))));
+        }
+        let h = match plan.settings.step {
+            StepSize::Fixed(h) => h,
+            StepSize::Adaptive(_) => {
+                return Err(self.locate(SceneError::invalid("method.h", "(adaptive: rtol/atol)", "a fixed step h: the tangent map is that of one step of given size")));
+            }
+        };
+        Ok(Prepared { model, method, t0: plan.t0, h, duration: plan.t_end - plan.t0 })
+    }
+
+    /// The dimension of the scene's state group: the number of Lyapunov
+    /// exponents of its full spectrum.
+    pub fn state_dimension(&self) -> Result<usize, SceneError> {
+        Ok(self.prepare_analysis()?.model.dof())
+    }
+
+    /// [`LyapunovOptions`] with the scene's fixed step and time span (the
+    /// other settings at their defaults: the largest exponent only).
+    pub fn lyapunov_options(&self) -> Result<LyapunovOptions, SceneError> {
+        let p = self.prepare_analysis()?;
+        Ok(LyapunovOptions::new(p.h, p.duration))
+    }
+
+    /// [`TwoTrajectoryOptions`] with the scene's fixed step and time span.
+    pub fn two_trajectory_options(&self) -> Result<TwoTrajectoryOptions, SceneError> {
+        let p = self.prepare_analysis()?;
+        Ok(TwoTrajectoryOptions::new(p.h, p.duration))
+    }
+
+    /// The Lyapunov exponents of the scene's trajectory
+    /// ([`lyapunov_spectrum`]) with its method from its `t₀`; `opts.h` and
+    /// `opts.duration` as given (see [`Scene::lyapunov_options`]). Needs a
+    /// Lie-group method with a fixed step `method.h`.
+    pub fn lyapunov(&self, opts: &LyapunovOptions, cancel: &AtomicBool) -> Result<LyapunovEstimate, SceneAnalysisError> {
+        let p = self.prepare_analysis()?;
+        Ok(p.model.lyapunov(&p.method, p.t0, opts, cancel)?)
+    }
+
+    /// The two-trajectory estimate of the maximal exponent ([`two_trajectory`]).
+    pub fn two_trajectory(&self, opts: &TwoTrajectoryOptions, cancel: &AtomicBool) -> Result<TwoTrajectoryEstimate, SceneAnalysisError> {
+        let p = self.prepare_analysis()?;
+        Ok(p.model.two_trajectory(&p.method, p.t0, opts, cancel)?)
+    }
+}
+
+/// The crossings of a Poincaré section: one row per crossing, located on the
+/// method's continuous extension by the driver's event machinery
+/// ([`crate::solve::event`]), with every column of the scene's record.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Section {
+    /// The section's name.
+    pub name: String,
+    /// The columns of a row (`t` first, then those of
+    /// [`Simulation::event_columns`](super::Simulation::event_columns)).
+    pub columns: Vec<super::Column>,
+    /// The rows, one after the other (`crossings × columns.len()` numbers).
+    pub data: Vec<f64>,
+    /// Whether each crossing was rising (`g` from − to +).
+    pub rising: Vec<bool>,
+}
+
+impl Section {
+    /// Number of crossings.
+    pub fn len(&self) -> usize {
+        self.rising.len()
+    }
+    /// True if there was no crossing.
+    pub fn is_empty(&self) -> bool {
+        self.rising.is_empty()
+    }
+    /// The values of column `name` at the crossings.
+    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
+        let w = self.columns.len();
+        let j = self.columns.iter().position(|c| c.name == name)?;
+        Some(self.data.chunks(w).map(|r| r[j]).collect())
+    }
+}
+
+/// A sink keeping the crossings of event 0 only (records are not built).
+struct Crossings {
+    section: Section,
+}
+
+impl super::RecordSink for Crossings {
+    fn columns(&mut self, _columns: &[super::Column]) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn record(&mut self, _row: &[f64]) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn event(&mut self, hit: &super::EventHit) -> std::io::Result<()> {
+        self.section.data.extend_from_slice(&hit.row);
+        self.section.rising.push(hit.rising);
+        Ok(())
+    }
+    fn last_only(&self) -> bool {
+        true
+    }
+}
+
+impl Scene {
+    /// The Poincaré section of the scene's trajectory by `section` (an
+    /// `[[events]]` entry: `plane`, `column` or `distance`, with its
+    /// direction; `terminal` is ignored): every crossing over the scene's
+    /// span with the whole record (all quantities) at it. The scene's own
+    /// events and output settings are not used.
+    pub fn section(&self, section: &super::EventSpec, cancel: &AtomicBool) -> Result<Section, SceneAnalysisError> {
+        let mut scene = self.clone();
+        scene.output.quantities = None;
+        scene.output.times = None;
+        scene.output.samples = None;
+        scene.output.every = None;
+        scene.events = vec![super::EventSpec { terminal: false, ..section.clone() }];
+        let mut sim = scene.build().map_err(|e| match e {
+            SceneError::Invalid { path, value, allowed, location } if path.starts_with("events[0]") => {
+                SceneError::Invalid { path: path.replacen("events[0]", "section", 1), value, allowed, location }
+            }
+            e => e,
+        })?;
+        let name = sim.events()[0].name().to_string();
+        let name = if section.name.is_none() { "section".to_string() } else { name };
+        let mut sink = Crossings { section: Section { name, columns: sim.event_columns().to_vec(), data: Vec::new(), rising: Vec::new() } };
+        match sim.run(&mut sink, cancel, &mut |_| {}) {
+            Ok(summary) => match summary.stop {
+                super::SceneStop::Cancelled => Err(AnalysisError::Cancelled { t: summary.t_reached }.into()),
+                _ => Ok(sink.section),
+            },
+            Err(f) => match f.error {
+                super::RunError::Integration(e) => Err(AnalysisError::Solve(e).into()),
+                other => Err(AnalysisError::invalid("section", other.to_string(), "a run without output errors").into()),
+            },
+        }
+    }
+}
