@@ -482,7 +482,7 @@ where
 
 /// Measures tolerance proportionality: global error / tol at T = 10 varies by
 /// at most a factor 4 over tol = 1e-5 … 1e-10, on the Lagrange top, the rigid
-/// body and the H² oscillator. The Lagrange top's constant (≈ 23–26) exceeds
+/// body and the H² oscillator. The Lagrange top's constant (≈ 14–15) exceeds
 /// the 10 × tol target; measured there: the propagated solution's local
 /// error is 0.02–0.2 × the estimate (as on the other problems), the flow
 /// amplifies initial perturbations ≈ 12× over T = 10 (the rigid body: 13×),
