@@ -555,7 +555,9 @@ impl Simulation {
     }
 
     /// Runs the scene from its initial state over its time span (the
-    /// simulation is reset first and left at the last state reached),
+    /// simulation is reset first and left at the last state reached — with
+    /// `[method] global_error = true`, the reference run's state at that
+    /// time, see [`GlobalError`]),
     /// streaming records to `sink`; `cancel` is polled every few hundred
     /// steps (a cancelled run stops cleanly with [`SceneStop::Cancelled`]
     /// and the last state recorded); `progress` is called at most every
