@@ -28,7 +28,10 @@ prints the table of docs/performance.md ("Tolerance proportionality").
 `--out DIR` writes the CSV to DIR instead (e.g. to compare builds);
 `--compare OLD.csv` prints, for every problem and method, the ratio of
 vector-field evaluations (new / old) at equal error, interpolated in
-log-log between the tolerances (work-precision at equal error).
+log-log between the tolerances (work-precision at equal error);
+`--compare-wp OLD_wp_rust.csv NEW_wp_rust.csv` does the same for the
+adaptive DOPRI5 rows of two runs of scripts/work_precision.py (final error
+at T, evaluations and thread-CPU time), and runs nothing else.
 
 Run it from the repository root with a Python that has numpy, scipy,
 matplotlib and a release build of framedyn (`pip install .`).
@@ -314,6 +317,36 @@ def compare(rows, old_path):
                 print(f"  {name:18s} {method}: {min(ratios):.2f} – {max(ratios):.2f} (median {np.median(ratios):.2f}, {len(ratios)} points)")
 
 
+def interpolated_ratios(old, new):
+    """old, new: lists of (error, cost...) tuples; for each new point inside
+    the old error range, new cost / old cost at equal error (log-log)."""
+    oe = np.log([o[0] for o in old])
+    order = np.argsort(oe)
+    out = []
+    for point in new:
+        le = math.log(point[0])
+        if oe[order[0]] <= le <= oe[order[-1]]:
+            out.append([c / math.exp(np.interp(le, oe[order], np.log([o[k] for o in old])[order]))
+                        for k, c in enumerate(point) if k > 0])
+    return out
+
+
+def compare_wp(old_path, new_path):
+    def load(p):
+        with open(p) as f:
+            return [r for r in csv.DictReader(f) if r["method"] == "dopri5" and r["kind"] == "tol" and not r["failure"]
+                    and float(r["error"]) > 0]
+    old, new = load(old_path), load(new_path)
+    print(f"adaptive DOPRI5 of scripts/work_precision.py at equal final error, {new_path} / {old_path}:")
+    for prob in sorted({r["problem"] for r in new}):
+        pick = lambda rows: [(float(r["error"]), float(r["rhs_evals"]), float(r["cpu_s"])) for r in rows if r["problem"] == prob]
+        q = interpolated_ratios(pick(old), pick(new))
+        if q:
+            rhs, cpu = np.array(q).T
+            print(f"  {prob:12s} evaluations median {np.median(rhs):.2f} [{rhs.min():.2f}, {rhs.max():.2f}], "
+                  f"thread-CPU median {np.median(cpu):.2f} [{cpu.min():.2f}, {cpu.max():.2f}] ({len(q)} points)")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="tol 1e-6, 1e-9, 1e-12 only")
@@ -322,7 +355,11 @@ def main():
     ap.add_argument("--compare", help="an earlier CSV: work at equal error, new / old")
     ap.add_argument("--no-chart", action="store_true")
     ap.add_argument("--no-estimate", action="store_true", help="do not ask for the global-error estimate (builds before it existed)")
+    ap.add_argument("--compare-wp", nargs=2, metavar=("OLD", "NEW"), help="two wp_rust.csv of scripts/work_precision.py")
     args = ap.parse_args()
+    if args.compare_wp:
+        compare_wp(*args.compare_wp)
+        return 0
     global NO_ESTIMATE
     NO_ESTIMATE = args.no_estimate
     tols = [1e-6, 1e-9, 1e-12] if args.quick else [10.0**-k for k in range(6, 13)]
