@@ -261,3 +261,30 @@ fn bad_lyapunov_options_are_refused() {
     let stop = AtomicBool::new(true);
     assert!(matches!(lyapunov_spectrum(&sys, &m, 0.0, &y0, &LyapunovOptions::new(0.01, 1.0), Some(&stop)), Err(AnalysisError::Cancelled { .. })));
 }
+
+/// A scene's analysis needs a Lie-group method with a fixed step: an
+/// adaptive scene or a coordinate method is refused naming the field.
+#[test]
+fn scene_lyapunov_needs_a_fixed_step_group_method() {
+    let no = AtomicBool::new(false);
+    let base = framedyn::scenes::example("s2-point-kepler").unwrap();
+    let field = |e: framedyn::scenes::SceneError| match e {
+        framedyn::scenes::SceneError::Invalid { path, .. } => path,
+        other => panic!("not an invalid scene: {other}"),
+    };
+    let mut adaptive = base.clone();
+    adaptive.method.name = "dopri5".into();
+    adaptive.method.h = None;
+    adaptive.method.rtol = Some(1e-8.into());
+    assert_eq!(field(adaptive.lyapunov_options().unwrap_err()), "method.h");
+    let mut chart = base.clone();
+    chart.method.name = "coordinate_rk4".into();
+    assert_eq!(field(chart.lyapunov_options().unwrap_err()), "method.name");
+    // Options from the scene: its step and span.
+    let o = base.lyapunov_options().unwrap();
+    assert_eq!((o.h, o.duration), (0.005, 10.0));
+    assert_eq!(base.state_dimension().unwrap(), 5); // SO(3) × ℝ²
+    let e = base.lyapunov(&o.exponents(5), &no).unwrap();
+    assert_eq!(e.exponents.len(), 5);
+    assert!(e.exponents.iter().chain(&e.stderr).all(|x| x.is_finite()), "{:?}", e);
+}

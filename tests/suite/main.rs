@@ -23,6 +23,7 @@ mod potentials;
 mod registry;
 mod scenes;
 mod scenes_golden;
+mod sections;
 mod sphere;
 mod sphere3;
 mod spheroid;

@@ -21,7 +21,8 @@ pub struct LyapunovOptions {
     /// Integration time `T > 0` (including the transient); `round(T/h)` steps
     /// of equal size.
     pub duration: f64,
-    /// Number `k` of exponents, `1 ≤ k ≤ DOF` (the largest `k`).
+    /// Number `k` of exponents, `1 ≤ k ≤ DOF` (the largest `k`: the first `k`
+    /// columns of the QR iteration).
     pub exponents: usize,
     /// Steps between re-orthonormalisations (≥ 1).
     pub renormalise_every: usize,
@@ -102,7 +103,9 @@ fn count(h: f64, duration: f64, transient: f64, every: usize, batches: usize) ->
 /// Exponents and their diagnostics.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LyapunovEstimate {
-    /// The exponents, largest first (1/time units of the scene).
+    /// The exponents (1/time units of the scene), in the order of the QR
+    /// columns: the largest first once converged (a short run's finite-time
+    /// estimates need not be ordered yet).
     pub exponents: Vec<f64>,
     /// Standard error of each by batch means: the standard deviation of the
     /// batches' exponents over √batches.
