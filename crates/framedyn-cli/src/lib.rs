@@ -7,6 +7,8 @@
 //! framedyn validate SCENE        # check a scene without running it
 //! framedyn methods               # the integration methods (the registry)
 //! framedyn sweep SCENE --table members.csv|npz [--output results.npz] [--keep all|final] [--samples K] [--threads N] [--no-space-check]
+//! framedyn lyapunov SCENE [--exponents K|all] [--two-trajectory] [--output RUNNING.csv] …   # see [`analysis`]
+//! framedyn section SCENE [--event NAME | --plane N | --column NAME --value V] [--direction D] [--output SECTION.csv]
 //! ```
 //!
 //! `SCENE` is a TOML or JSON file, or the name of an embedded scene; without
@@ -56,6 +58,7 @@
 //! computed so far).
 #![deny(missing_docs)]
 
+pub mod analysis;
 pub mod output;
 pub mod signals;
 pub mod space;
@@ -147,6 +150,71 @@ enum Command {
         #[arg(long)]
         no_space_check: bool,
     },
+    /// Lyapunov exponents of a scene's trajectory (its method and fixed step h, tangent map of each step).
+    Lyapunov {
+        /// Scene file (.toml or .json) or embedded scene name.
+        scene: String,
+        /// Number of exponents (largest first), or `all` (the state group's dimension).
+        #[arg(short = 'k', long, default_value = "1")]
+        exponents: String,
+        /// Steps between re-orthonormalisations of the tangent vectors.
+        #[arg(long, default_value_t = 10)]
+        every: usize,
+        /// Time at the start left out of the averages.
+        #[arg(long, default_value_t = 0.0)]
+        transient: f64,
+        /// Batches of the batch-means standard error.
+        #[arg(long, default_value_t = 10)]
+        batches: usize,
+        /// Seed of the random initial tangent frame.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Perturbation of the central differences of the step map (default 1e-5; 1e-3 with --fourth-order).
+        #[arg(long)]
+        eps: Option<f64>,
+        /// Fourth-order central differences (twice the cost).
+        #[arg(long)]
+        fourth_order: bool,
+        /// Also estimate the maximal exponent from two nearby trajectories.
+        #[arg(long)]
+        two_trajectory: bool,
+        /// Write the running estimates (t, lambda_1, …) to this CSV.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
+    /// Poincaré section of a scene's trajectory: its crossings of a plane, a column value or an [[events]] entry, as CSV.
+    Section {
+        /// Scene file (.toml or .json) or embedded scene name.
+        scene: String,
+        /// An [[events]] entry of the scene, by name (default: its only one).
+        #[arg(long)]
+        event: Option<String>,
+        /// A plane n·x = offset: the normal's embedding components, comma-separated.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        plane: Option<Vec<f64>>,
+        /// The plane's offset (default 0).
+        #[arg(long, allow_hyphen_values = true)]
+        offset: Option<f64>,
+        /// A record column (`r`, `phi`, `energy`, …) …
+        #[arg(long)]
+        column: Option<String>,
+        /// … and the value it crosses.
+        #[arg(long, allow_hyphen_values = true)]
+        value: Option<f64>,
+        /// Crossing direction (default: the event's, or either).
+        #[arg(long, value_enum)]
+        direction: Option<DirectionArg>,
+        /// Output CSV.
+        #[arg(short, long, default_value = "section.csv")]
+        output: PathBuf,
+    },
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum DirectionArg {
+    Rising,
+    Falling,
+    Either,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -279,6 +347,24 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
                 (None, KeepArg::All) => scenes::Keep::All,
             };
             run_sweep(s, &origin, &table, &output, keep, (threads, oversubscribe), (quiet, !no_space_check))
+        }
+        Command::Lyapunov { scene, exponents, every, transient, batches, seed, eps, fourth_order, two_trajectory, output } => {
+            let (s, origin) = load(&scene)?;
+            let exponents = match exponents.as_str() {
+                "all" => None,
+                k => Some(k.parse::<usize>().map_err(|_| (2, format!("invalid --exponents = {k:?}: must be a positive integer or `all`")))?),
+            };
+            let args = analysis::LyapunovArgs { exponents, every, transient, batches, seed, eps, fourth_order, two_trajectory, output };
+            analysis::lyapunov(&s, &origin, &args)
+        }
+        Command::Section { scene, event, plane, offset, column, value, direction, output } => {
+            let (s, origin) = load(&scene)?;
+            let direction = direction.map(|d| match d {
+                DirectionArg::Rising => framedyn::scenes::EventDirection::Rising,
+                DirectionArg::Falling => framedyn::scenes::EventDirection::Falling,
+                DirectionArg::Either => framedyn::scenes::EventDirection::Either,
+            });
+            analysis::section(&s, &origin, &analysis::SectionArgs { event, plane, offset, column, value, direction, output })
         }
         Command::Run { scene, output, format, quiet, no_space_check } => {
             let name = scene.unwrap_or_else(|| scenes::DEFAULT_SCENE.to_string());

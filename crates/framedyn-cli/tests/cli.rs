@@ -719,3 +719,84 @@ fn sweep_writes_every_member() {
     assert!(!dir.join("bad.npz").exists());
     let _ = fs::remove_dir_all(&dir);
 }
+
+// ---------------------------------------------------------------------------
+// `framedyn lyapunov` and `framedyn section` (issue 21)
+// ---------------------------------------------------------------------------
+
+/// `lyapunov -k all` prints the scene's full spectrum and writes the running
+/// estimates; the numbers are those of the library call on the same scene.
+#[test]
+fn lyapunov_prints_the_spectrum_and_writes_running_estimates() {
+    let dir = tmpdir("lyapunov");
+    let o = framedyn(&["lyapunov", "s2-point-kepler", "-k", "all", "--output", "run.csv"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(out.contains("state dimension: 5 (exponents computed: 5)"), "{out}");
+    let (header, rows) = read_csv(&dir.join("run.csv"));
+    assert_eq!(header, ["t", "lambda_1", "lambda_2", "lambda_3", "lambda_4", "lambda_5"]);
+    let scene = example("s2-point-kepler").unwrap();
+    let e = scene.lyapunov(&scene.lyapunov_options().unwrap().exponents(5), &AtomicBool::new(false)).unwrap();
+    assert_eq!(rows.len(), e.times.len());
+    assert_eq!(rows.last().unwrap()[1..], e.exponents[..]);
+    for (i, l) in e.exponents.iter().enumerate() {
+        assert!(out.contains(&format!("{:>3}  {l:>12.6}", i + 1)), "exponent {i} missing from:\n{out}");
+    }
+    let o = framedyn(&["lyapunov", "s2-point-kepler", "--two-trajectory"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stdout(&o).contains("two trajectories:"), "{}", stdout(&o));
+}
+
+/// Bad options exit 2 naming the option and its range; an unsuitable scene
+/// exits 3 naming the field.
+#[test]
+fn lyapunov_and_section_refuse_bad_input() {
+    let dir = tmpdir("lyapunov-bad");
+    for (args, needle) in [
+        (&["lyapunov", "s2-point-kepler", "-k", "0"][..], "invalid --exponents = 0: must be between 1 and 5"),
+        (&["lyapunov", "s2-point-kepler", "-k", "x"][..], "invalid --exponents = \"x\""),
+        (&["lyapunov", "s2-point-kepler", "--every", "0"][..], "invalid --every = 0"),
+        (&["lyapunov", "s2-point-kepler", "--eps", "1"][..], "invalid --eps = 1"),
+        (&["lyapunov", "s2-point-kepler", "--transient", "20"][..], "invalid --transient = 20"),
+        (&["section", "s2-point-kepler"][..], "no section"),
+        (&["section", "s2-point-kepler", "--plane", "1,0"][..], "section.normal"),
+        (&["section", "s2-point-kepler", "--column", "nope", "--value", "1"][..], "section.column"),
+        (&["section", "s2-point-kepler", "--column", "r"][..], "--column needs --value"),
+    ] {
+        let o = framedyn(args, &dir);
+        assert_eq!(code(&o), 2, "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+    }
+    let adaptive = dir.join("adaptive.toml");
+    let mut s = example("s2-point-kepler").unwrap();
+    s.method.name = "dopri5".into();
+    s.method.h = None;
+    s.method.rtol = Some(1e-8);
+    fs::write(&adaptive, s.to_toml_string()).unwrap();
+    let o = framedyn(&["lyapunov", adaptive.to_str().unwrap()], &dir);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    assert!(stderr(&o).contains("method.h"), "{}", stderr(&o));
+}
+
+/// `section` writes the crossings as CSV (`rising` then every record column)
+/// at the crossed value.
+#[test]
+fn section_writes_the_crossings() {
+    let dir = tmpdir("section");
+    let o = framedyn(&["section", "s2-point-kepler", "--column", "r", "--value", "0.5", "--direction", "falling", "-o", "sec.csv"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stdout(&o).contains("crossings"), "{}", stdout(&o));
+    let (header, rows) = read_csv(&dir.join("sec.csv"));
+    assert_eq!(&header[..3], ["rising", "t", "x0"]);
+    let r = header.iter().position(|h| h == "r").unwrap();
+    assert!(rows.len() >= 2);
+    for row in &rows {
+        assert_eq!(row[0], 0.0);
+        assert!((row[r] - 0.5).abs() < 1e-9, "{row:?}");
+    }
+    let o = framedyn(&["section", "s2-gyroscope-pole", "--plane", "1,0,0", "-o", "pole.csv"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let (header, rows) = read_csv(&dir.join("pole.csv"));
+    let x2 = header.iter().position(|h| h == "x2").unwrap();
+    assert!(rows[0][x2] > 0.9999, "{rows:?}");
+}

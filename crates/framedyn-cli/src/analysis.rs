@@ -1,0 +1,238 @@
+//! `framedyn lyapunov` and `framedyn section`: the analyses of
+//! [`framedyn::analysis`] on a scene.
+//!
+//! ```text
+//! framedyn lyapunov SCENE [--exponents K|all] [--every N] [--transient T] [--batches B] [--seed S]
+//!                         [--eps E] [--fourth-order] [--two-trajectory] [--output RUNNING.csv]
+//! framedyn section SCENE [--event NAME | --plane NX,NY,NZ[,NW] [--offset C] | --column NAME --value V]
+//!                        [--direction rising|falling|either] [--output SECTION.csv]
+//! ```
+//!
+//! `lyapunov` integrates the scene's trajectory with its method and fixed
+//! step `method.h` over its time span, with tangent vectors (the tangent map
+//! of each step), and prints the exponents, largest first, with their
+//! batch-means standard errors and the spread of the running estimates
+//! over the second half of the run; `--output` writes the running
+//! estimates (`t,lambda_1,…`). `--two-trajectory` adds the maximal exponent
+//! from two nearby trajectories. `section` writes the crossings of a
+//! section — an `[[events]]` entry of the scene (`--event NAME`, or the
+//! scene's only one), or one given by the options — as CSV: header
+//! `rising,t,…` (every record column), one line per crossing.
+//!
+//! Exit codes as for `run`: 2 bad options (named with their allowed range),
+//! 3 invalid or unsuitable scene (an adaptive step, a coordinate method),
+//! 4 a failed step, 5 I/O, 128 + signal when stopped.
+
+use std::io::Write;
+use std::path::Path;
+
+use framedyn::analysis::{AnalysisError, Difference, Linearisation};
+use framedyn::scenes::{EventDirection, EventKind, EventSpec, Scene, SceneAnalysisError};
+
+use crate::{signals, target, EXIT_INTEGRATION, EXIT_INVALID, EXIT_IO};
+
+/// Exit code: bad command line.
+const EXIT_USAGE: u8 = 2;
+
+/// The settings of `framedyn lyapunov` besides the scene.
+#[derive(Debug, Clone)]
+pub struct LyapunovArgs {
+    /// Number of exponents, or `None` for all.
+    pub exponents: Option<usize>,
+    /// Steps between re-orthonormalisations.
+    pub every: usize,
+    /// Time not averaged at the start.
+    pub transient: f64,
+    /// Batches of the standard error.
+    pub batches: usize,
+    /// Seed of the initial frame.
+    pub seed: u64,
+    /// Perturbation of the central differences.
+    pub eps: Option<f64>,
+    /// Fourth-order differences.
+    pub fourth_order: bool,
+    /// Add the two-trajectory estimate.
+    pub two_trajectory: bool,
+    /// Where to write the running estimates.
+    pub output: Option<std::path::PathBuf>,
+}
+
+fn error(origin: &str, e: SceneAnalysisError) -> (u8, String) {
+    match e {
+        SceneAnalysisError::Scene(e @ framedyn::scenes::SceneError::Invalid { .. }) if matches!(&e, framedyn::scenes::SceneError::Invalid { path, .. } if path.starts_with("section")) => {
+            (EXIT_USAGE, format!("invalid section: {e}"))
+        }
+        SceneAnalysisError::Scene(e) => (EXIT_INVALID, format!("{origin}: invalid scene for this analysis: {e}")),
+        SceneAnalysisError::Analysis(AnalysisError::InvalidParameter { field, value, allowed }) => {
+            (EXIT_USAGE, format!("invalid {} = {value}: must be {allowed}", option_name(field)))
+        }
+        SceneAnalysisError::Analysis(AnalysisError::Cancelled { t }) => {
+            let (code, name) = signals::interruption();
+            (code, format!("interrupted by {name} at t = {t}; nothing written"))
+        }
+        SceneAnalysisError::Analysis(e) => (EXIT_INTEGRATION, format!("{origin}: {e}")),
+    }
+}
+
+/// The command-line option of an analysis setting.
+fn option_name(field: &str) -> String {
+    match field {
+        "renormalise_every" => "--every".into(),
+        "h" => "method.h (the scene's step)".into(),
+        "duration" => "time.t_end − time.t0 (the scene's span)".into(),
+        f => format!("--{}", f.replace('_', "-")),
+    }
+}
+
+/// Writes `text` to `path` atomically (temporary file, then rename).
+fn write_atomically(path: &Path, text: &str) -> Result<(), (u8, String)> {
+    let target = target::Target::resolve(path).map_err(|e| (EXIT_IO, format!("cannot write {}: {e}", path.display())))?;
+    let tmp = target.temporary("tmp");
+    let written = std::fs::File::create(&tmp).and_then(|mut f| f.write_all(text.as_bytes()).and_then(|_| f.sync_all()));
+    if let Err(e) = written.and_then(|_| target.commit(&tmp)) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err((EXIT_IO, format!("cannot write {}: {e}", path.display())));
+    }
+    Ok(())
+}
+
+/// `framedyn lyapunov`.
+pub fn lyapunov(scene: &Scene, origin: &str, args: &LyapunovArgs) -> Result<(), (u8, String)> {
+    let cancel = signals::arm();
+    let mut opts = scene.lyapunov_options().map_err(|e| error(origin, e.into()))?;
+    let dof = scene.state_dimension().map_err(|e| error(origin, e.into()))?;
+    opts.exponents = args.exponents.unwrap_or(dof);
+    opts.renormalise_every = args.every;
+    opts.transient = args.transient;
+    opts.batches = args.batches;
+    opts.seed = args.seed;
+    if args.fourth_order {
+        opts.linearisation = Linearisation::fourth_order();
+    }
+    opts.linearisation.difference = if args.fourth_order { Difference::Central4 } else { Difference::Central2 };
+    if let Some(eps) = args.eps {
+        opts.linearisation.eps = eps;
+    }
+    let started = std::time::Instant::now();
+    let e = scene.lyapunov(&opts, cancel).map_err(|e| error(origin, e))?;
+    let wall = started.elapsed().as_secs_f64();
+    let two = if args.two_trajectory {
+        let mut o = scene.two_trajectory_options().map_err(|e| error(origin, e.into()))?;
+        o.renormalise_every = args.every;
+        o.transient = args.transient;
+        o.batches = args.batches;
+        o.seed = args.seed;
+        Some(scene.two_trajectory(&o, cancel).map_err(|e| error(origin, e))?)
+    } else {
+        None
+    };
+    if let Some(path) = &args.output {
+        let mut text = String::from("t");
+        for i in 1..=e.exponents.len() {
+            text.push_str(&format!(",lambda_{i}"));
+        }
+        text.push('\n');
+        for (t, row) in e.times.iter().zip(&e.running) {
+            text.push_str(&format!("{t:?}"));
+            for x in row {
+                text.push_str(&format!(",{x:?}"));
+            }
+            text.push('\n');
+        }
+        write_atomically(path, &text)?;
+    }
+    println!("scene:           {origin}");
+    println!("state dimension: {dof} (exponents computed: {})", e.exponents.len());
+    println!("steps:           {} of h = {:?} ({} method steps each)", e.steps, opts.h, e.steps_per_step);
+    println!("wall time:       {wall:.3} s");
+    println!("{:>3}  {:>12}  {:>10}  {:>10}", "i", "exponent", "stderr", "spread");
+    for (i, ((l, s), w)) in e.exponents.iter().zip(&e.stderr).zip(&e.spread).enumerate() {
+        println!("{:>3}  {l:>12.6}  {s:>10.2e}  {w:>10.2e}", i + 1);
+    }
+    if e.exponents.len() == dof {
+        println!("sum:             {:.3e}", e.exponents.iter().sum::<f64>());
+    }
+    if let Some(t) = two {
+        println!("two trajectories: {:.6} ± {:.2e} (spread {:.2e})", t.exponent, t.stderr, t.spread);
+    }
+    if let Some(path) = &args.output {
+        println!("running estimates: {}", path.display());
+    }
+    Ok(())
+}
+
+/// The section of `framedyn section`.
+#[derive(Debug, Clone, Default)]
+pub struct SectionArgs {
+    /// An `[[events]]` entry of the scene, by name.
+    pub event: Option<String>,
+    /// A plane's normal.
+    pub plane: Option<Vec<f64>>,
+    /// The plane's offset.
+    pub offset: Option<f64>,
+    /// A record column.
+    pub column: Option<String>,
+    /// The value the column crosses.
+    pub value: Option<f64>,
+    /// `rising`, `falling` or `either`.
+    pub direction: Option<EventDirection>,
+    /// The output CSV.
+    pub output: std::path::PathBuf,
+}
+
+/// `framedyn section`.
+pub fn section(scene: &Scene, origin: &str, args: &SectionArgs) -> Result<(), (u8, String)> {
+    let given = [args.event.is_some(), args.plane.is_some(), args.column.is_some()].iter().filter(|g| **g).count();
+    if given > 1 {
+        return Err((EXIT_USAGE, "give one section: --event, --plane or --column".into()));
+    }
+    let mut spec = if let Some(name) = &args.event {
+        scene.events.iter().find(|e| e.name.as_deref() == Some(name.as_str())).cloned().ok_or_else(|| {
+            let names: Vec<&str> = scene.events.iter().filter_map(|e| e.name.as_deref()).collect();
+            (EXIT_USAGE, format!("invalid --event = {name:?}: must name an [[events]] entry of the scene; named entries: {}", if names.is_empty() { "none".to_string() } else { names.join(", ") }))
+        })?
+    } else if let Some(n) = &args.plane {
+        EventSpec { kind: EventKind::Plane, name: Some("section".into()), normal: Some(n.clone()), offset: args.offset, point: None, distance: None, column: None, value: None, direction: EventDirection::default(), terminal: false }
+    } else if let Some(c) = &args.column {
+        let v = args.value.ok_or_else(|| (EXIT_USAGE, "--column needs --value (the value crossed)".to_string()))?;
+        EventSpec { kind: EventKind::Column, name: Some("section".into()), normal: None, offset: None, point: None, distance: None, column: Some(c.clone()), value: Some(v), direction: EventDirection::default(), terminal: false }
+    } else {
+        match scene.events.as_slice() {
+            [one] => one.clone(),
+            [] => return Err((EXIT_USAGE, "no section: give --plane, --column or --event (the scene has no [[events]])".into())),
+            _ => return Err((EXIT_USAGE, format!("the scene has {} [[events]]: choose one with --event NAME", scene.events.len()))),
+        }
+    };
+    if args.plane.is_none() && args.offset.is_some() {
+        return Err((EXIT_USAGE, "--offset goes with --plane".into()));
+    }
+    if args.column.is_none() && args.value.is_some() {
+        return Err((EXIT_USAGE, "--value goes with --column".into()));
+    }
+    if let Some(d) = args.direction {
+        spec.direction = d;
+    }
+    let cancel = signals::arm();
+    let started = std::time::Instant::now();
+    let s = scene.section(&spec, cancel).map_err(|e| error(origin, e))?;
+    let mut text = String::from("rising");
+    for c in &s.columns {
+        text.push(',');
+        text.push_str(&c.name);
+    }
+    text.push('\n');
+    let w = s.columns.len();
+    for (row, rising) in s.data.chunks(w).zip(&s.rising) {
+        text.push_str(if *rising { "1" } else { "0" });
+        for x in row {
+            text.push_str(&format!(",{x:?}"));
+        }
+        text.push('\n');
+    }
+    write_atomically(&args.output, &text)?;
+    println!("scene:           {origin}");
+    println!("section:         {} ({} crossings)", s.name, s.len());
+    println!("wall time:       {:.3} s", started.elapsed().as_secs_f64());
+    println!("output:          {}", args.output.display());
+    Ok(())
+}
