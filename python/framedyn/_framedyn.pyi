@@ -16,11 +16,13 @@ __all__ = [
     "_raise_for_test",
     "cli_main",
     "initial_fields",
+    "lyapunov",
     "manifolds",
     "methods",
     "run",
     "run_batch",
     "run_table",
+    "section",
     "write_records",
 ]
 __version__: str
@@ -115,3 +117,19 @@ def initial_fields() -> List[str]: ...
 def write_records(
     path: str, format: str, columns: List[str], units: List[str], data: npt.NDArray[np.float64]
 ) -> None: ...
+
+def lyapunov(
+    scene: Scene,
+    exponents: Optional[int],
+    every: int,
+    transient: float,
+    batches: int,
+    seed: int,
+    eps: Optional[float],
+    fourth_order: bool,
+    two_trajectory: bool,
+) -> Dict[str, Any]:
+    """Lyapunov exponents: ``{"exponents", "stderr", "spread", "times", "running", "steps", "steps_per_step", "state_dimension", "two_trajectory"}``."""
+
+def section(scene: Scene, spec_json: str) -> Dict[str, Any]:
+    """Poincaré section: ``{"name", "columns", "units", "data", "rising"}``."""

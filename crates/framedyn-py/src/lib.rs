@@ -10,6 +10,7 @@
 
 use pyo3::prelude::*;
 
+mod analysis;
 mod catalog;
 mod ensemble;
 mod errors;
@@ -28,6 +29,8 @@ fn _framedyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(ensemble::run_table, m)?)?;
     m.add_function(wrap_pyfunction!(errors::raise_for_test, m)?)?;
     m.add_function(wrap_pyfunction!(cli_main, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::lyapunov, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::section, m)?)?;
     m.add_function(wrap_pyfunction!(catalog::methods, m)?)?;
     m.add_function(wrap_pyfunction!(catalog::manifolds, m)?)?;
     m.add_function(wrap_pyfunction!(catalog::initial_fields, m)?)?;

@@ -1,0 +1,128 @@
+//! `lyapunov` and `section` (issue 21): the analyses of a scene, with the GIL
+//! released and Ctrl-C honoured; results as numpy arrays.
+
+use framedyn::analysis::{AnalysisError, Linearisation};
+use framedyn::scenes::{EventSpec, SceneAnalysisError};
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::errors::{err, internal, scene_err, solve_err, Kind};
+use crate::interrupt::interruptible;
+use crate::scene::PyScene;
+
+fn analysis_err(py: Python<'_>, e: &SceneAnalysisError) -> PyErr {
+    match e {
+        SceneAnalysisError::Scene(s) => scene_err(py, s),
+        SceneAnalysisError::Analysis(AnalysisError::Solve(s)) => solve_err(py, s),
+        SceneAnalysisError::Analysis(a @ AnalysisError::InvalidParameter { .. }) => err(py, Kind::Invalid, a.to_string()),
+        SceneAnalysisError::Analysis(a) => err(py, Kind::Integration, a.to_string()),
+    }
+}
+
+/// Runs `work` interruptibly; maps a panic, a Ctrl-C and the work's error.
+fn run_interruptibly<T: Send>(py: Python<'_>, work: impl FnOnce(&std::sync::atomic::AtomicBool) -> Result<T, SceneAnalysisError> + Send) -> PyResult<T> {
+    let (result, interrupt) = interruptible(py, work);
+    if let Some(e) = interrupt {
+        return Err(e);
+    }
+    match result {
+        Err(panic) => Err(internal(py, panic)),
+        Ok(Err(e)) => Err(analysis_err(py, &e)),
+        Ok(Ok(v)) => Ok(v),
+    }
+}
+
+/// Rows of equal length as a 2-D array.
+fn matrix<'py>(py: Python<'py>, rows: &[Vec<f64>], width: usize) -> PyResult<Bound<'py, PyAny>> {
+    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+    Ok(PyArray1::from_vec(py, flat).reshape([rows.len(), width])?.into_any())
+}
+
+/// The Lyapunov exponents of a scene (see `framedyn.lyapunov`): a dict of
+/// arrays.
+#[pyfunction]
+#[pyo3(signature = (scene, exponents, every, transient, batches, seed, eps, fourth_order, two_trajectory))]
+#[allow(clippy::too_many_arguments)]
+pub fn lyapunov<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    exponents: Option<usize>,
+    every: usize,
+    transient: f64,
+    batches: usize,
+    seed: u64,
+    eps: Option<f64>,
+    fourth_order: bool,
+    two_trajectory: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scene = scene.inner.clone();
+    let (dof, e, two) = run_interruptibly(py, move |cancel| {
+        let mut opts = scene.lyapunov_options()?;
+        let dof = scene.state_dimension()?;
+        opts.exponents = exponents.unwrap_or(dof);
+        opts.renormalise_every = every;
+        opts.transient = transient;
+        opts.batches = batches;
+        opts.seed = seed;
+        if fourth_order {
+            opts.linearisation = Linearisation::fourth_order();
+        }
+        if let Some(eps) = eps {
+            opts.linearisation.eps = eps;
+        }
+        let e = scene.lyapunov(&opts, cancel)?;
+        let two = if two_trajectory {
+            let mut o = scene.two_trajectory_options()?;
+            o.renormalise_every = every;
+            o.transient = transient;
+            o.batches = batches;
+            o.seed = seed;
+            Some(scene.two_trajectory(&o, cancel)?)
+        } else {
+            None
+        };
+        Ok((dof, e, two))
+    })?;
+    let d = PyDict::new(py);
+    let k = e.exponents.len();
+    d.set_item("exponents", PyArray1::from_slice(py, &e.exponents))?;
+    d.set_item("stderr", PyArray1::from_slice(py, &e.stderr))?;
+    d.set_item("spread", PyArray1::from_slice(py, &e.spread))?;
+    d.set_item("times", PyArray1::from_slice(py, &e.times))?;
+    d.set_item("running", matrix(py, &e.running, k)?)?;
+    d.set_item("steps", e.steps)?;
+    d.set_item("steps_per_step", e.steps_per_step)?;
+    d.set_item("state_dimension", dof)?;
+    match two {
+        Some(t) => {
+            let td = PyDict::new(py);
+            td.set_item("exponent", t.exponent)?;
+            td.set_item("stderr", t.stderr)?;
+            td.set_item("spread", t.spread)?;
+            td.set_item("times", PyArray1::from_slice(py, &t.times))?;
+            td.set_item("running", PyArray1::from_slice(py, &t.running))?;
+            d.set_item("two_trajectory", td)?;
+        }
+        None => d.set_item("two_trajectory", py.None())?,
+    }
+    Ok(d)
+}
+
+/// The Poincaré section of a scene by an `[[events]]` entry given as JSON
+/// (see `framedyn.section`): a dict with `name`, `columns`, `units`, `data`
+/// (crossings × columns) and `rising`.
+#[pyfunction]
+pub fn section<'py>(py: Python<'py>, scene: &PyScene, spec_json: &str) -> PyResult<Bound<'py, PyDict>> {
+    let spec: EventSpec = serde_json::from_str(spec_json).map_err(|e| err(py, Kind::Invalid, format!("invalid section: {e}")))?;
+    let scene = scene.inner.clone();
+    let s = run_interruptibly(py, move |cancel| scene.section(&spec, cancel))?;
+    let d = PyDict::new(py);
+    let w = s.columns.len();
+    d.set_item("name", &s.name)?;
+    d.set_item("columns", s.columns.iter().map(|c| c.name.clone()).collect::<Vec<_>>())?;
+    d.set_item("units", s.columns.iter().map(|c| c.unit).collect::<Vec<_>>())?;
+    d.set_item("data", PyArray1::from_vec(py, s.data).reshape([s.rising.len(), w])?)?;
+    d.set_item("rising", PyArray1::from_vec(py, s.rising))?;
+    Ok(d)
+}

@@ -1,0 +1,207 @@
+"""Integrability, measured (issue 21): Lyapunov exponents and Poincaré
+sections of a scene, computed in the Rust core (``framedyn::analysis``) with
+the GIL released; results as numpy arrays."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from typing import Any, Dict, Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _framedyn
+from ._errors import InvalidInputError, check_int
+from ._scene import Scene
+
+_U64_MAX = 2**64 - 1
+
+
+@dataclass(frozen=True)
+class LyapunovResult:
+    """Lyapunov exponents of a scene's trajectory (:func:`lyapunov`).
+
+    ``exponents``: the ``k`` largest, largest first (1/time); ``stderr``:
+    their batch-means standard errors; ``spread``: max − min of each running
+    estimate over the second half of the run (how far from converged);
+    ``times`` and ``running`` (shape ``(len(times), k)``): the running
+    estimates at every re-orthonormalisation; ``steps``: fixed steps taken;
+    ``steps_per_step``: steps of the method per step (1 + 2 per tangent
+    vector, 4 with fourth-order differences); ``state_dimension``: the
+    number of exponents of the full spectrum; ``two_trajectory``: with
+    ``two_trajectory=True``, the maximal exponent from two nearby
+    trajectories (``exponent``, ``stderr``, ``spread``, ``times``,
+    ``running``), else ``None``."""
+
+    exponents: np.ndarray
+    stderr: np.ndarray
+    spread: np.ndarray
+    times: np.ndarray
+    running: np.ndarray
+    steps: int
+    steps_per_step: int
+    state_dimension: int
+    two_trajectory: Optional[Dict[str, Any]]
+
+
+@dataclass(frozen=True)
+class Section:
+    """The crossings of a Poincaré section (:func:`section`): ``data`` has one
+    row per crossing and one column per name in ``columns`` (``t`` first,
+    then every record column of the scene, units in ``units``); ``rising``
+    says whether each crossing went from − to + through the section."""
+
+    name: str
+    columns: Tuple[str, ...]
+    units: Tuple[str, ...]
+    data: np.ndarray
+    rising: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.data.shape[0])
+
+    def column(self, name: str) -> np.ndarray:
+        """The values of column ``name`` at the crossings."""
+        try:
+            j = self.columns.index(name)
+        except ValueError:
+            raise InvalidInputError(f"invalid column {name!r}: not a column of this section; columns: {', '.join(self.columns)}") from None
+        return self.data[:, j]
+
+    @property
+    def t(self) -> np.ndarray:
+        """The crossing times."""
+        return self.data[:, 0]
+
+
+def _scene(scene: Any) -> Scene:
+    if isinstance(scene, Scene):
+        return scene
+    if isinstance(scene, Mapping):
+        return Scene.from_dict(scene)
+    raise TypeError(f"scene: expected a framedyn.Scene or a dict, got {type(scene).__name__}")
+
+
+def _real(value: Any, name: str) -> float:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"invalid `{name}` = {value!r}: must be a real number, not {type(value).__name__}")
+    v = float(value)
+    if not math.isfinite(v):
+        raise InvalidInputError(f"invalid `{name}` = {value!r}: must be finite")
+    return v
+
+
+def lyapunov(
+    scene: Union[Scene, Mapping[str, Any]],
+    *,
+    exponents: Union[int, str] = 1,
+    every: int = 10,
+    transient: float = 0.0,
+    batches: int = 10,
+    seed: int = 1,
+    eps: Optional[float] = None,
+    fourth_order: bool = False,
+    two_trajectory: bool = False,
+) -> LyapunovResult:
+    """The Lyapunov exponents of ``scene``'s trajectory: its method with its
+    fixed step ``method.h`` over its time span, carrying tangent vectors
+    ``δy = y·ξ`` (Lie-algebra coordinates) by the tangent map of each step,
+    re-orthonormalised every ``every`` steps (Benettin's discrete QR).
+
+    ``exponents``: how many (largest first), or ``"all"`` (the dimension of
+    the state group: the phase space plus the parallel frame's gauge
+    direction, which contributes a 0). ``transient``: time at the start left
+    out of the averages; ``batches``: batches of the standard error;
+    ``seed``: of the random initial tangent frame; ``eps`` and
+    ``fourth_order``: the central differences of the step map (default
+    second order, ``eps = 1e-5``; fourth order ``eps = 1e-3``);
+    ``two_trajectory``: also the two-nearby-trajectory estimate.
+
+    Raises :class:`InvalidInputError` (a ``ValueError``) for a bad option or a
+    scene without a fixed step or with a coordinate method, ``TypeError`` for
+    an argument of the wrong type, :class:`IntegrationError` when a step
+    fails; Ctrl-C raises ``KeyboardInterrupt``."""
+    s = _scene(scene)
+    if isinstance(exponents, str):
+        if exponents != "all":
+            raise InvalidInputError(f"invalid `exponents` = {exponents!r}: must be a positive int or 'all'")
+        k: Optional[int] = None
+    else:
+        k = check_int(exponents, "exponents", 1, 10_000)
+    for flag, name in ((fourth_order, "fourth_order"), (two_trajectory, "two_trajectory")):
+        if not isinstance(flag, bool):
+            raise TypeError(f"invalid `{name}` = {flag!r}: must be a bool")
+    raw = _framedyn.lyapunov(
+        s._native,
+        k,
+        check_int(every, "every", 1, 2**32),
+        _real(transient, "transient"),
+        check_int(batches, "batches", 2, 2**32),
+        check_int(seed, "seed", 0, _U64_MAX),
+        None if eps is None else _real(eps, "eps"),
+        fourth_order,
+        two_trajectory,
+    )
+    return LyapunovResult(**raw)
+
+
+def section(
+    scene: Union[Scene, Mapping[str, Any]],
+    spec: Optional[Mapping[str, Any]] = None,
+    *,
+    plane: Optional[Sequence[float]] = None,
+    offset: float = 0.0,
+    column: Optional[str] = None,
+    value: Optional[float] = None,
+    event: Optional[str] = None,
+    direction: Optional[str] = None,
+) -> Section:
+    """The Poincaré section of ``scene``'s trajectory: every crossing, located
+    on the method's continuous extension, with the whole record there.
+
+    The section is one of: ``spec``, an ``[[events]]`` entry as a dict
+    (``{"kind": "plane", "normal": [0, 0, 1]}``, ``{"kind": "column",
+    "column": "r", "value": 1.0}``, …); ``plane`` (the normal, embedding
+    components) with ``offset``; ``column`` with ``value``; ``event``, the
+    name of an ``[[events]]`` entry of the scene; or, with none of these,
+    the scene's only ``[[events]]`` entry. ``direction``: ``"rising"``,
+    ``"falling"`` or ``"either"`` (default: the entry's, else either).
+
+    Raises :class:`InvalidInputError` for an invalid section (naming the
+    field) and :class:`IntegrationError` when the run fails."""
+    s = _scene(scene)
+    given = [x is not None for x in (spec, plane, column, event)]
+    if sum(given) > 1:
+        raise InvalidInputError("give one section: spec, plane, column or event")
+    if spec is not None:
+        if not isinstance(spec, Mapping):
+            raise TypeError(f"spec: expected a dict (an [[events]] entry), got {type(spec).__name__}")
+        entry: Dict[str, Any] = dict(spec)
+    elif plane is not None:
+        normal = [_real(x, "plane") for x in plane]
+        entry = {"kind": "plane", "name": "section", "normal": normal, "offset": _real(offset, "offset")}
+    elif column is not None:
+        if not isinstance(column, str):
+            raise TypeError(f"column: expected a str, got {type(column).__name__}")
+        if value is None:
+            raise InvalidInputError("column needs value (the value crossed)")
+        entry = {"kind": "column", "name": "section", "column": column, "value": _real(value, "value")}
+    else:
+        events = s.to_dict().get("events", [])
+        if event is not None:
+            found = [e for e in events if e.get("name") == event]
+            if not found:
+                names = [e["name"] for e in events if "name" in e]
+                raise InvalidInputError(f"invalid `event` = {event!r}: must name an [[events]] entry of the scene; named entries: {', '.join(names) or 'none'}")
+            entry = dict(found[0])
+        elif len(events) == 1:
+            entry = dict(events[0])
+        else:
+            raise InvalidInputError(f"no section given and the scene has {len(events)} [[events]] entries: give spec, plane, column or event")
+    if direction is not None:
+        if direction not in ("rising", "falling", "either"):
+            raise InvalidInputError(f"invalid `direction` = {direction!r}: must be 'rising', 'falling' or 'either'")
+        entry["direction"] = direction
+    raw = _framedyn.section(s._native, json.dumps(entry))
+    return Section(name=raw["name"], columns=tuple(raw["columns"]), units=tuple(raw["units"]), data=raw["data"], rising=raw["rising"])

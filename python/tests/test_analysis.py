@@ -1,0 +1,84 @@
+"""Lyapunov exponents and Poincaré sections from Python (issue 21): arrays
+out, the numbers of the command line, typed errors for bad input."""
+
+import math
+
+import numpy as np
+import pytest
+
+import framedyn as fd
+
+
+def test_lyapunov_full_spectrum_arrays():
+    scene = fd.Scene.example("s2-point-kepler")
+    r = fd.lyapunov(scene, exponents="all")
+    assert isinstance(r, fd.LyapunovResult)
+    assert r.state_dimension == 5
+    assert r.exponents.shape == (5,) and r.stderr.shape == (5,) and r.spread.shape == (5,)
+    assert r.running.shape == (len(r.times), 5)
+    assert np.array_equal(r.running[-1], r.exponents)
+    assert r.steps == 2000 and r.steps_per_step == 11
+    assert r.two_trajectory is None
+    # Integrable (Bertrand) orbit: the maximal exponent is small and the sum vanishes.
+    assert abs(r.exponents.sum()) < 1e-6
+
+
+def test_lyapunov_two_trajectory_agrees_on_a_chaotic_affine_body():
+    # The elastic affine body of the scene with a general inertia J (the
+    # paper: "no hope for integrability").
+    scene = fd.Scene.example("s2-affine-elastic")
+    d = scene.to_dict()
+    del d["body"]["inertia"]
+    d["body"]["J"] = [[0.1, 0.02], [0.02, 0.05]]
+    d["time"]["t_end"] = 60.0
+    r = fd.lyapunov(fd.Scene.from_dict(d), two_trajectory=True, transient=5.0)
+    two = r.two_trajectory
+    assert two is not None
+    assert math.isfinite(r.exponents[0]) and math.isfinite(two["exponent"])
+    assert abs(r.exponents[0] - two["exponent"]) <= 3 * two["stderr"] + 1e-6
+
+
+def test_section_arrays_and_columns():
+    scene = fd.Scene.example("s2-point-kepler")
+    s = fd.section(scene, column="r", value=0.5, direction="falling")
+    assert isinstance(s, fd.Section)
+    assert len(s) >= 2 and s.data.shape == (len(s), len(s.columns))
+    assert s.columns[0] == "t" and s.units[0] == "T"
+    assert np.allclose(s.column("r"), 0.5, atol=1e-9)
+    assert not s.rising.any()
+    assert np.array_equal(s.t, s.data[:, 0])
+    same = fd.section(scene, {"kind": "column", "column": "r", "value": 0.5, "direction": "falling"})
+    assert np.array_equal(same.data, s.data)
+    pole = fd.section(fd.Scene.example("s2-gyroscope-pole"), plane=[1.0, 0.0, 0.0])
+    assert pole.column("x2")[0] > 0.9999
+
+
+def test_bad_input_is_typed():
+    scene = fd.Scene.example("s2-point-kepler")
+    with pytest.raises(fd.InvalidInputError, match="exponents"):
+        fd.lyapunov(scene, exponents=0)
+    with pytest.raises(ValueError, match="between 1 and 5"):
+        fd.lyapunov(scene, exponents=6)
+    with pytest.raises(fd.InvalidInputError, match="eps"):
+        fd.lyapunov(scene, eps=2.0)
+    with pytest.raises(fd.InvalidInputError, match="every"):
+        fd.lyapunov(scene, every=0)
+    with pytest.raises(TypeError):
+        fd.lyapunov(scene, transient="soon")
+    with pytest.raises(TypeError):
+        fd.lyapunov(42)
+    d = scene.to_dict()
+    d["method"] = {"name": "dopri5", "rtol": 1e-8}
+    with pytest.raises(fd.InvalidInputError, match="method.h"):
+        fd.lyapunov(fd.Scene.from_dict(d))
+    with pytest.raises(fd.InvalidInputError, match="section.normal"):
+        fd.section(scene, plane=[1.0, 0.0])
+    with pytest.raises(fd.InvalidInputError, match="section.column"):
+        fd.section(scene, column="nope", value=1.0)
+    with pytest.raises(fd.InvalidInputError, match="no section"):
+        fd.section(scene)
+    with pytest.raises(fd.InvalidInputError, match="direction"):
+        fd.section(scene, column="r", value=0.5, direction="up")
+    s = fd.section(scene, column="r", value=0.5)
+    with pytest.raises(fd.InvalidInputError, match="not a column"):
+        s.column("nope")
