@@ -53,16 +53,16 @@ fn spectrum_max_arg<const N: usize>(t: &Mat<N>, blocks: &Blocks<N>) -> std::resu
     Ok(worst)
 }
 
-/// Largest `|arg λ|` for which [`logm`] takes its square roots by the
+/// Largest `|arg λ|` for which `logm` takes its square roots by the
 /// Denman–Beavers iteration on the full matrix; beyond it (eigenvalues
 /// within 0.24 rad of the negative axis, where the iteration's first step
 /// `(2I + A + A⁻¹)/4` cancels like `cos²(arg λ/2)`) it uses the real Schur
-/// form. Measured crossover (`log_paths_crossover` unit test, 3×3
+/// form. Measured crossover (the `log_paths_crossover` test, 3×3
 /// non-normal): DB/Schur worst errors 1.9e-15/3.8e-15 at θ = 2.6,
 /// 8.3e-15/1.5e-14 at 3.0, 1.2e-13/4.1e-14 at 3.1, 3.1e-11/6.6e-13 at 3.14.
 pub const LOG_DB_MAX_ARG: f64 = 2.9;
 
-/// Largest 1-norm condition number `κ₁(A)` for which [`logm`] uses the
+/// Largest 1-norm condition number `κ₁(A)` for which `logm` uses the
 /// Denman–Beavers square roots: their inverses lose `κ·ε`, while the
 /// Schur path's backward error (10–40ε, from the Schur form itself) does
 /// not depend on κ. Measured on 20 000 random 3×3 `exp(S + W + N)`
@@ -145,7 +145,7 @@ pub(crate) fn logm<const N: usize>(a: &Mat<N>, group: &'static str) -> Result<Ma
     logm_switch(a, group, LOG_DB_MAX_ARG, LOG_DB_MAX_COND)
 }
 
-/// [`logm`] with the path switch at `db_max_arg`, `db_max_cond` (`−1`:
+/// `logm` with the path switch at `db_max_arg`, `db_max_cond` (`−1`:
 /// always Schur; `∞, ∞`: always Denman–Beavers).
 pub fn logm_switch<const N: usize>(
     a: &Mat<N>,
