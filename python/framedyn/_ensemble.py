@@ -134,7 +134,8 @@ class EnsembleSolution:
     findings, a list of str, empty when the run is sound: energy drift or
     defect over the scene's ``[quality]`` limits, non-finite energy),
     ``stats`` (a dict of ``(N,)`` arrays: steps, energy_drift, max_defect,
-    t_reached, …). Events: ``events`` (all
+    t_reached, …; ``global_error`` and ``global_error_final``, NaN unless the
+    scene sets ``[method] global_error = true``). Events: ``events`` (all
     members' located events, flat) with ``event_member`` (the member of each).
     """
 

@@ -378,3 +378,20 @@ def test_global_error_estimate_only_when_asked():
     assert 1 / 3 <= sol.stats["global_error"] / err.max() <= 3
     assert 1 / 3 <= sol.stats["global_error_final"] / err[-1] <= 3
     assert sol.stats["global_error_rhs_evals"] > sol.stats["rhs_evals"]
+
+
+def test_ensemble_members_carry_their_global_error_estimate():
+    """A batch whose scene asks for the estimate reports each member's in its
+    stats, equal to the member's own `fd.solve`; a batch that does not ask
+    has NaN there."""
+    kw = dict(manifold="S2", body={"kind": "gyroscope", "inertia": 0.2}, potential={"kind": "cosine", "beta_hat": -0.3},
+              r=0.6, phi=0.0, r_dot=-1.0, spin=0.02, method="dopri5", rtol=1e-7, atol=1e-7, t_end=3.0, samples=11)
+    rs = np.array([0.4, 0.6, 0.8])
+    asked = fd.solve_batch(fd.Scene(**kw, global_error=True), {"initial.r": rs}, threads=1)
+    for i, r in enumerate(rs):
+        one = fd.solve(fd.Scene(**{**kw, "r": r}, global_error=True))
+        assert asked.stats["global_error"][i] == one.stats["global_error"]
+        assert asked.stats["global_error_final"][i] == one.stats["global_error_final"]
+    assert (asked.stats["global_error"] > 0).all()
+    plain = fd.solve_batch(fd.Scene(**kw), {"initial.r": rs}, threads=1)
+    assert np.isnan(plain.stats["global_error"]).all() and np.isnan(plain.stats["global_error_final"]).all()

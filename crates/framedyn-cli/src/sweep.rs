@@ -179,8 +179,9 @@ pub fn write_ensemble(target: &Path, table: &Table, out: &Ensemble, partial: boo
 /// [`RunSummary::NUMBER_NAMES`](framedyn::scenes::RunSummary::NUMBER_NAMES)
 /// (`steps`, `rejected`, `rhs_evals`, `records`, `events`, `wall_time`,
 /// `energy_initial`, `energy_drift`, `relative_energy_drift`,
-/// `momentum_map_drift`, `max_defect`, `t_reached`; NaN for invalid
-/// members), `warnings` (the quality warnings of each member joined by
+/// `momentum_map_drift`, `max_defect`, `t_reached`, `global_error`,
+/// `global_error_final`; NaN for invalid members, and the global error's
+/// for runs that do not ask for its estimate), `warnings` (the quality warnings of each member joined by
 /// `; `, empty when none), and the table itself as `table.<field>`.
 pub struct EnsembleWriter {
     dest: Target,

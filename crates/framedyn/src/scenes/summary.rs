@@ -220,7 +220,7 @@ impl RunSummary {
     }
 
     /// The names of [`Self::numbers`], in its order.
-    pub const NUMBER_NAMES: [&'static str; 12] = [
+    pub const NUMBER_NAMES: [&'static str; 14] = [
         "steps",
         "rejected",
         "rhs_evals",
@@ -233,12 +233,17 @@ impl RunSummary {
         "momentum_map_drift",
         "max_defect",
         "t_reached",
+        "global_error",
+        "global_error_final",
     ];
 
     /// The numeric fields (counts as floats) in the order of
     /// [`Self::NUMBER_NAMES`]: what the Python module's ensemble statistics
     /// and the sweep's `.npz` hold.
-    pub fn numbers(&self) -> [f64; 12] {
+    /// `global_error` and `global_error_final` are the estimate's largest
+    /// and last-record errors ([`GlobalError`]), NaN when the run did not
+    /// ask for one.
+    pub fn numbers(&self) -> [f64; 14] {
         [
             self.steps as f64,
             self.rejected as f64,
@@ -252,6 +257,8 @@ impl RunSummary {
             self.momentum_map_drift,
             self.max_defect,
             self.t_reached,
+            self.global_error.as_ref().map_or(f64::NAN, |g| g.max),
+            self.global_error.as_ref().map_or(f64::NAN, |g| g.last),
         ]
     }
 
