@@ -3,15 +3,7 @@ use framedyn::__internals::{matrix_inverse as inverse, trace_of_product, Mat};
 use framedyn::dynamics::affine::Inertia;
 use framedyn::Error;
 
-fn xorshift(seed: u64) -> impl FnMut() -> f64 {
-    let mut s = seed;
-    move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
-}
+use super::xorshift;
 
 fn check_inverse<const N: usize>(rng: &mut impl FnMut() -> f64) {
     for _ in 0..200 {
