@@ -288,3 +288,24 @@ fn scene_lyapunov_needs_a_fixed_step_group_method() {
     assert_eq!(e.exponents.len(), 5);
     assert!(e.exponents.iter().chain(&e.stderr).all(|x| x.is_finite()), "{:?}", e);
 }
+
+/// The running estimates are thinned to at most `MAX_HISTORY` rows (and the
+/// last), so a long run's memory does not grow with its length; the final
+/// estimate is the same as without thinning.
+#[test]
+fn running_history_is_thinned() {
+    use framedyn::analysis::lyapunov::MAX_HISTORY;
+    let (sys, y0) = tilted(0.8, 0.6, [1.2, 0.3], [0.9, 0.7], 0.4, 0.6);
+    let opts = LyapunovOptions { renormalise_every: 1, ..LyapunovOptions::new(0.001, 25.0) };
+    let e = lyapunov_spectrum(&sys, &Rkmk::rk4(), 0.0, &y0, &opts, None).unwrap();
+    assert!(e.times.len() <= MAX_HISTORY + 1 && e.times.len() > MAX_HISTORY / 2, "{} rows", e.times.len());
+    assert_eq!(*e.times.last().unwrap(), 25.0);
+    assert_eq!(e.running.last().unwrap()[0], e.exponents[0]);
+    // 25,000 re-orthonormalisations, every third recorded.
+    assert!((e.times[1] - e.times[0] - 0.003).abs() < 1e-12, "{:?}", &e.times[..2]);
+    let every = LyapunovOptions { renormalise_every: 1, ..LyapunovOptions::new(0.001, 5.0) };
+    let short = lyapunov_spectrum(&sys, &Rkmk::rk4(), 0.0, &y0, &every, None).unwrap();
+    assert_eq!(short.times.len(), 5000);
+    let bad = lyapunov_spectrum(&sys, &Rkmk::rk4(), 0.0, &y0, &LyapunovOptions { batches: MAX_HISTORY + 1, ..every }, None).unwrap_err();
+    assert!(bad.to_string().contains("batches"), "{bad}");
+}

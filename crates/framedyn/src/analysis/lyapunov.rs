@@ -74,8 +74,8 @@ fn check_common(h: f64, duration: f64, transient: f64, every: usize, batches: us
     if every == 0 {
         return Err(AnalysisError::invalid("renormalise_every", every, "≥ 1 step"));
     }
-    if batches < 2 {
-        return Err(AnalysisError::invalid("batches", batches, "≥ 2"));
+    if !(2..=MAX_HISTORY).contains(&batches) {
+        return Err(AnalysisError::invalid("batches", batches, format!("between 2 and {MAX_HISTORY}")));
     }
     Ok(())
 }
@@ -113,8 +113,9 @@ pub struct LyapunovEstimate {
     /// Spread of each running estimate over the second half of the averaging
     /// (max − min): how far from converged.
     pub spread: Vec<f64>,
-    /// Times of the running estimates (every re-orthonormalisation after the
-    /// transient).
+    /// Times of the running estimates: every re-orthonormalisation after the
+    /// transient, thinned to at most [`MAX_HISTORY`] (every `m`-th) and
+    /// the last.
     pub times: Vec<f64>,
     /// The running estimates at `times`, one row of `k` exponents per time.
     pub running: Vec<Vec<f64>>,
@@ -162,7 +163,17 @@ fn orthonormalise(m: &mut DMatrix<f64>, t: f64) -> Result<Vec<f64>, AnalysisErro
     Ok(r)
 }
 
-/// The running sums of `log |R_ii|` at each re-orthonormalisation after the
+/// Largest number of recorded running estimates (and of batches), besides
+/// the last estimate, which is always recorded.
+pub const MAX_HISTORY: usize = 10_000;
+
+/// Every how many re-orthonormalisations a running estimate is recorded,
+/// for `n` steps re-orthonormalised every `every`.
+fn history_stride(n: usize, every: usize) -> usize {
+    (n / every).div_ceil(MAX_HISTORY).max(1)
+}
+
+/// The running sums of `log |R_ii|` at the re-orthonormalisations after the
 /// transient, turned into estimates and diagnostics.
 struct Accumulator {
     t_start: f64,
@@ -176,12 +187,17 @@ impl Accumulator {
         Accumulator { t_start, sums: vec![0.0; k], times: Vec::new(), cumulative: Vec::new() }
     }
 
-    fn add(&mut self, t: f64, logs: impl Iterator<Item = f64>) {
+    /// Adds one re-orthonormalisation's logarithms; records the running
+    /// sums when `record` (the history is thinned to at most
+    /// [`MAX_HISTORY`] rows and the last, so that its memory does not grow with the run).
+    fn add(&mut self, t: f64, logs: impl Iterator<Item = f64>, record: bool) {
         for (s, l) in self.sums.iter_mut().zip(logs) {
             *s += l;
         }
-        self.times.push(t);
-        self.cumulative.push(self.sums.clone());
+        if record {
+            self.times.push(t);
+            self.cumulative.push(self.sums.clone());
+        }
     }
 
     /// `(estimates, stderr, spread, times, running)`.
@@ -247,6 +263,7 @@ where
     let mut t = t0;
     let t_avg = t0 + opts.transient;
     let mut acc = (opts.transient == 0.0).then(|| Accumulator::new(opts.exponents, t0));
+    let (stride, mut renorms) = (history_stride(n, opts.renormalise_every), 0usize);
     for i in 0..n {
         if cancelled(cancel) {
             return Err(AnalysisError::Cancelled { t });
@@ -257,7 +274,10 @@ where
         if (i + 1) % opts.renormalise_every == 0 || i + 1 == n {
             let r = orthonormalise(&mut cols, t)?;
             match &mut acc {
-                Some(a) => a.add(t, r.iter().map(|x| x.ln())),
+                Some(a) => {
+                    renorms += 1;
+                    a.add(t, r.iter().map(|x| x.ln()), renorms % stride == 0 || i + 1 == n)
+                }
                 None if t >= t_avg - 0.5 * h => acc = Some(Accumulator::new(opts.exponents, t)),
                 None => {}
             }
@@ -347,6 +367,7 @@ where
     let mut t = t0;
     let t_avg = t0 + opts.transient;
     let mut acc = (opts.transient == 0.0).then(|| Accumulator::new(1, t0));
+    let (stride, mut renorms) = (history_stride(n, opts.renormalise_every), 0usize);
     let step = |t: f64, y: &S::State, h: f64| method.step(system, t, y, h, StepRequest::plain()).map(|o| o.y).map_err(|f| AnalysisError::Solve(fault_error(f, t, h)));
     for i in 0..n {
         if cancelled(cancel) {
@@ -365,7 +386,10 @@ where
             let back: Vec<f64> = sep.iter().map(|x| x * (d0 / d)).collect();
             z = along(&y, &back);
             match &mut acc {
-                Some(a) => a.add(t, std::iter::once((d / d0).ln())),
+                Some(a) => {
+                    renorms += 1;
+                    a.add(t, std::iter::once((d / d0).ln()), renorms % stride == 0 || i + 1 == n)
+                }
                 None if t >= t_avg - 0.5 * h => acc = Some(Accumulator::new(1, t)),
                 None => {}
             }
