@@ -126,7 +126,7 @@ pub struct LyapunovEstimate {
 }
 
 /// A deterministic pseudo-random orthonormal `rows × k` frame (xorshift64*).
-fn random_frame(rows: usize, k: usize, seed: u64) -> DMatrix<f64> {
+pub(crate) fn random_frame(rows: usize, k: usize, seed: u64) -> DMatrix<f64> {
     let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
     let mut next = || {
         s ^= s >> 12;
