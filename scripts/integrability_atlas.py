@@ -7,7 +7,8 @@ For each case (an embedded scene, possibly modified, run over T = 200 or
 100 with its own method and fixed step) it records the maximal exponent
 λ(T) with its batch-means standard error, the two-trajectory estimate, and
 the growth exponent g = Δlog|ξ| / Δlog t of the tangent vector between
-t = T/10 and T: g ≈ 1 is the linear shear of an integrable motion (λ(t) ~
+t = T/10 and T, the smallest SALI over the run (and when it fell below
+1e-8): g ≈ 1 is the linear shear of an integrable motion (λ(t) ~
 log t / t), g ≫ 1 exponential growth. Verdict: "regular" when |g − 1| <
 0.3, "chaotic" when g > 3 and λ > 5 standard errors, else "undecided".
 
@@ -108,6 +109,7 @@ def atlas():
         g = growth(r, t_end)
         lam, se = float(r.exponents[0]), float(r.stderr[0])
         two = r.two_trajectory
+        si = fd.sali(s)
         if abs(g - 1.0) < 0.3:
             verdict = "regular"
         elif g > 3.0 and lam > 5.0 * se:
@@ -126,6 +128,8 @@ def atlas():
                 "growth": g,
                 "two_trajectory": float(two["exponent"]),
                 "two_stderr": float(two["stderr"]),
+                "sali_min": si["min"],
+                "sali_below_1e-8_at": si["chaotic_at"] if si["chaotic_at"] is not None else float("nan"),
                 "verdict": verdict,
             }
         )
@@ -176,12 +180,14 @@ def write(path, rows):
 def main():
     rows = atlas()
     write(os.path.join(DATA, "integrability_atlas.csv"), rows)
-    print("| case | the paper | T | λ(T/10) | λ(T) ± stderr | two trajectories | growth g | verdict |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| case | the paper | T | λ(T/10) | λ(T) ± stderr | two trajectories | growth g | SALI: min (< 1e-8 at t) | verdict |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(
             f"| {r['case']} | {r['paper']} | {r['T']:g} | {r['lambda_T_over_10']:.4f} | {r['lambda']:.4f} ± {r['stderr']:.4f} | "
-            f"{r['two_trajectory']:.4f} ± {r['two_stderr']:.4f} | {r['growth']:.2f} | {r['verdict']} |"
+            f"{r['two_trajectory']:.4f} ± {r['two_stderr']:.4f} | {r['growth']:.2f} | {r['sali_min']:.1e}"
+            + ("" if math.isnan(r["sali_below_1e-8_at"]) else f" (t = {r['sali_below_1e-8_at']:.0f})")
+            + f" | {r['verdict']} |"
         )
     c = cost()
     write(os.path.join(DATA, "integrability_cost.csv"), c)

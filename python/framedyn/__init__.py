@@ -37,7 +37,7 @@ import numpy as np
 from . import _framedyn
 from ._errors import MAX_SAMPLES, MAX_THREADS, USIZE_MAX, FramedynError, IntegrationError, InternalError, InvalidInputError, OutputError, QualityWarning, check_int
 from ._scene import INITIAL_FIELDS, Scene, as_scenes
-from ._analysis import LyapunovResult, Section, lyapunov, section
+from ._analysis import LyapunovResult, Section, lyapunov, sali, section
 from ._ensemble import EnsembleSolution, table_columns
 from ._solution import BatchSolution, EventRecords, Solution
 
@@ -54,6 +54,7 @@ __all__ = [
     "solve",
     "solve_batch",
     "lyapunov",
+    "sali",
     "section",
     "LyapunovResult",
     "Section",

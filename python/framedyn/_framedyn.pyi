@@ -22,6 +22,7 @@ __all__ = [
     "run",
     "run_batch",
     "run_table",
+    "sali",
     "section",
     "write_records",
 ]
@@ -133,3 +134,6 @@ def lyapunov(
 
 def section(scene: Scene, spec_json: str) -> Dict[str, Any]:
     """Poincaré section: ``{"name", "columns", "units", "data", "rising"}``."""
+
+def sali(scene: Scene, threshold: float, seed: int) -> Tuple[float, Optional[float], float, int]:
+    """Smaller Alignment Index: ``(sali, chaotic_at, min, steps)``."""

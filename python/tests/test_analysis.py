@@ -82,3 +82,23 @@ def test_bad_input_is_typed():
     s = fd.section(scene, column="r", value=0.5)
     with pytest.raises(fd.InvalidInputError, match="not a column"):
         s.column("nope")
+
+
+def test_sali_regular_and_chaotic_scenes():
+    kepler = fd.Scene.example("s2-point-kepler")
+    d = kepler.to_dict()
+    d["time"]["t_end"] = 100.0
+    regular = fd.sali(fd.Scene.from_dict(d))
+    assert regular["chaotic_at"] is None and regular["steps"] == 20000
+    # The elastic affine body with general J at large deformation (docs/integrability.md).
+    d = fd.Scene.example("s2-affine-elastic").to_dict()
+    del d["body"]["inertia"]
+    d["body"]["J"] = [[0.1, 0.02], [0.02, 0.05]]
+    d["initial"].update(rho=[[1.8, 0.3], [0.0, 0.5]], rho_dot=[[0.0, 0.8], [-0.6, 0.0]], phi_dot=1.5)
+    d["time"]["t_end"] = 1000.0
+    chaotic = fd.sali(fd.Scene.from_dict(d))
+    assert chaotic["chaotic_at"] is not None and chaotic["sali"] < 1e-8
+    with pytest.raises(fd.InvalidInputError, match="threshold"):
+        fd.sali(kepler, threshold=2.0)
+    with pytest.raises(TypeError):
+        fd.sali(kepler, threshold="small")

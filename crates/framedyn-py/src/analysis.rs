@@ -126,3 +126,18 @@ pub fn section<'py>(py: Python<'py>, scene: &PyScene, spec_json: &str) -> PyResu
     d.set_item("rising", PyArray1::from_vec(py, s.rising))?;
     Ok(d)
 }
+
+/// The Smaller Alignment Index of a scene (see `framedyn.sali`):
+/// `(sali, chaotic_at, min, steps)`.
+#[pyfunction]
+#[pyo3(signature = (scene, threshold, seed))]
+pub fn sali(py: Python<'_>, scene: &PyScene, threshold: f64, seed: u64) -> PyResult<(f64, Option<f64>, f64, usize)> {
+    let scene = scene.inner.clone();
+    let e = run_interruptibly(py, move |cancel| {
+        let mut opts = scene.sali_options()?;
+        opts.threshold = threshold;
+        opts.seed = seed;
+        Ok(scene.sali(&opts, cancel)?)
+    })?;
+    Ok((e.sali, e.chaotic_at, e.min, e.steps))
+}

@@ -41,7 +41,7 @@
 //! a standard error by batch means. [`two_trajectory`]: the maximal exponent
 //! from the separation of two nearby trajectories, renormalised to `d₀`
 //! (Benettin, Galgani, Strelcyn 1976) — independent of the tangent code.
-//! [`sali`]: the Smaller Alignment Index (Skokos 2001), a fast chaos
+//! [`sali()`]: the Smaller Alignment Index (Skokos 2001), a fast chaos
 //! indicator from two tangent vectors.
 //!
 //! The metric on tangent vectors is the Euclidean one of the algebra

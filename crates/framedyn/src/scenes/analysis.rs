@@ -8,7 +8,7 @@ use super::chart::ChartTwin;
 use super::error::SceneError;
 use super::observe::Observe;
 use super::scene::Scene;
-use crate::analysis::{lyapunov_spectrum, two_trajectory, AnalysisError, LyapunovEstimate, LyapunovOptions, TwoTrajectoryEstimate, TwoTrajectoryOptions};
+use crate::analysis::{lyapunov_spectrum, sali, two_trajectory, AnalysisError, LyapunovEstimate, LyapunovOptions, SaliEstimate, SaliOptions, TwoTrajectoryEstimate, TwoTrajectoryOptions};
 use crate::lie::LieGroup;
 use crate::method::registry::{AnyMethod, Built, Needs};
 use crate::solve::{SolveError, StepSize};
@@ -19,6 +19,7 @@ pub(crate) trait DynAnalysis: Send {
     fn supports(&self, needs: Needs) -> bool;
     fn lyapunov(&self, method: &AnyMethod, t0: f64, opts: &LyapunovOptions, cancel: &AtomicBool) -> Result<LyapunovEstimate, AnalysisError>;
     fn two_trajectory(&self, method: &AnyMethod, t0: f64, opts: &TwoTrajectoryOptions, cancel: &AtomicBool) -> Result<TwoTrajectoryEstimate, AnalysisError>;
+    fn sali(&self, method: &AnyMethod, t0: f64, opts: &SaliOptions, cancel: &AtomicBool) -> Result<SaliEstimate, AnalysisError>;
 }
 
 struct Typed<S: Observe> {
@@ -42,6 +43,9 @@ impl<S: Observe> DynAnalysis for Typed<S> {
     }
     fn two_trajectory(&self, method: &AnyMethod, t0: f64, opts: &TwoTrajectoryOptions, cancel: &AtomicBool) -> Result<TwoTrajectoryEstimate, AnalysisError> {
         two_trajectory(&self.system, method, t0, &self.y0, opts, Some(cancel))
+    }
+    fn sali(&self, method: &AnyMethod, t0: f64, opts: &SaliOptions, cancel: &AtomicBool) -> Result<SaliEstimate, AnalysisError> {
+        sali(&self.system, method, t0, &self.y0, opts, Some(cancel))
     }
 }
 
@@ -132,6 +136,19 @@ impl Scene {
     pub fn lyapunov(&self, opts: &LyapunovOptions, cancel: &AtomicBool) -> Result<LyapunovEstimate, SceneAnalysisError> {
         let p = self.prepare_analysis()?;
         Ok(p.model.lyapunov(&p.method, p.t0, opts, cancel)?)
+    }
+
+    /// [`SaliOptions`] with the scene's fixed step and time span.
+    pub fn sali_options(&self) -> Result<SaliOptions, SceneError> {
+        let p = self.prepare_analysis()?;
+        Ok(SaliOptions::new(p.h, p.duration))
+    }
+
+    /// The Smaller Alignment Index of the scene's trajectory ([`sali()`]): a
+    /// fast chaos indicator for maps over initial conditions.
+    pub fn sali(&self, opts: &SaliOptions, cancel: &AtomicBool) -> Result<SaliEstimate, SceneAnalysisError> {
+        let p = self.prepare_analysis()?;
+        Ok(p.model.sali(&p.method, p.t0, opts, cancel)?)
     }
 
     /// The two-trajectory estimate of the maximal exponent ([`two_trajectory`]).
