@@ -20,8 +20,8 @@ mod scene_summary;
 mod special;
 mod torus_geodesic;
 
-/// Uniform pseudo-random numbers in [−1, 1) (xorshift64).
-fn xorshift(seed: u64) -> impl FnMut() -> f64 {
+/// Uniform pseudo-random numbers in [−1, 1) (xorshift64), for the suite.
+pub(crate) fn xorshift(seed: u64) -> impl FnMut() -> f64 {
     let mut s = seed;
     move || {
         s ^= s << 13;

@@ -159,15 +159,7 @@ const EPS: f64 = f64::EPSILON;
 type M2 = nalgebra::SMatrix<f64, 2, 2>;
 type M3 = nalgebra::SMatrix<f64, 3, 3>;
 
-fn rng(seed: u64) -> impl FnMut() -> f64 {
-    let mut s = seed;
-    move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
-}
+use crate::internals::xorshift as rng;
 
 fn dm<const N: usize>(m: &nalgebra::SMatrix<f64, N, N>) -> DMatrix<f64> {
     DMatrix::from_column_slice(N, N, m.as_slice())
