@@ -148,17 +148,35 @@ step "wheel smoke test without a Rust toolchain"
 # Packaged together: framedyn-cli's dependency on the unpublished framedyn is
 # resolved from a local registry overlay of the package just made. Any
 # warning (missing metadata, files left out of a target) fails the check.
+#
+# Cargo treats a registry package as immutable: it extracts the overlay's
+# framedyn-$VERSION into $CARGO_HOME/registry/src/-<hash of the overlay path>/
+# once and compiles it once per target directory, keyed by name and version
+# only. A second check at the same path (CI checks out to a fixed directory)
+# would therefore verify framedyn-cli against the framedyn of an earlier
+# commit. So the stale extraction is removed, and the verification builds in
+# a target directory of its own whose framedyn artifacts are cleaned, which
+# leaves the test build in target/ alone.
+PKG_TARGET="$PWD/target/package-verify"
+cargo_home="${CARGO_HOME:-$HOME/.cargo}"
+for crate in framedyn framedyn-cli; do
+    rm -rf "$cargo_home"/registry/src/-*/"$crate-$VERSION"
+done
+if [ -d "$PKG_TARGET" ]; then
+    cargo clean --quiet --target-dir "$PKG_TARGET" -p framedyn -p framedyn-cli
+fi
 dirty=()
 if [ -n "$(git status --porcelain -- crates Cargo.toml Cargo.lock README.md LICENSE-MIT LICENSE-APACHE)" ]; then
     echo "note: uncommitted changes in the packaged files, packaging with --allow-dirty"
     dirty=(--allow-dirty)
 fi
-cargo package -p framedyn -p framedyn-cli --locked "${dirty[@]}" 2> >(tee "$OUT/package.log" >&2)
+cargo package -p framedyn -p framedyn-cli --locked --target-dir "$PKG_TARGET" "${dirty[@]}" \
+    2> >(tee "$OUT/package.log" >&2)
 if grep -n "^warning" "$OUT/package.log"; then
     fail "cargo package warned (above; full log in $OUT/package.log)"
 fi
 for crate in framedyn framedyn-cli; do
-    listing="$(tar -tzf "target/package/$crate-$VERSION.crate")"
+    listing="$(tar -tzf "$PKG_TARGET/package/$crate-$VERSION.crate")"
     for want in Cargo.toml README.md LICENSE-MIT LICENSE-APACHE src/lib.rs; do
         grep -qx "$crate-$VERSION/$want" <<< "$listing" || fail "the $crate package lacks $want"
     done
@@ -166,8 +184,10 @@ done
 step "cargo package (verified)"
 
 # --- 4. a downstream crate ----------------------------------------------------
-# Its own workspace and lock file; the target directory is shared with the
-# package verification above (same profile, so the dependencies build once).
-CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" cargo run --locked --manifest-path examples/downstream/Cargo.toml
+# Its own workspace and lock file; it builds in the verification's target
+# directory (same profile, so the dependencies build once). Its framedyn is a
+# path dependency, a different package from the overlay's, so it is rebuilt
+# from the working tree.
+CARGO_TARGET_DIR="$PKG_TARGET" cargo run --locked --manifest-path examples/downstream/Cargo.toml
 step "downstream crate (build and run)"
 echo "release check passed: $(basename "$wheel"), $(basename "$sdist"), framedyn and framedyn-cli $VERSION packaged"
