@@ -1,31 +1,51 @@
 #!/usr/bin/env python3
 """Integrability, measured (issue 21): the maximal Lyapunov exponent of the
 paper's models, its growth law over a decade of time, the two-trajectory
-check, and the cost of carrying tangent vectors.
+check, and the cost of carrying tangent vectors; SALI maps over initial
+conditions and Poincaré sections.
 
-For each case (an embedded scene, possibly modified, run over T = 200 or
-100 with its own method and fixed step) it records the maximal exponent
-λ(T) with its batch-means standard error, the two-trajectory estimate, and
-the growth exponent g = Δlog|ξ| / Δlog t of the tangent vector between
-t = T/10 and T, the smallest SALI over the run (and when it fell below
-1e-8): g ≈ 1 is the linear shear of an integrable motion (λ(t) ~
+The table. For each case (an embedded scene, possibly modified, run over
+T = 200 or 100 with its own method and fixed step) it records the maximal
+exponent λ(T) with its batch-means standard error, the two-trajectory
+estimate, and the growth exponent g = Δlog|ξ| / Δlog t of the tangent
+vector between t = T/10 and T, the smallest SALI over the run (and when it
+fell below 1e-8): g ≈ 1 is the linear shear of an integrable motion (λ(t) ~
 log t / t), g ≫ 1 exponential growth. Verdict: "regular" when |g − 1| <
 0.3, "chaotic" when g > 3 and λ > 5 standard errors, else "undecided".
-
 Then the cost: wall time of fd.solve (plain run) against fd.lyapunov with
 1 and with all tangent vectors, on the same scene (median of 3).
 
-Writes docs/data/integrability_atlas.csv and
-docs/data/integrability_cost.csv and prints both as Markdown tables
-(docs/integrability.md quotes them). Run:
-    .venv/bin/python scripts/integrability_atlas.py
+The maps. SALI (fd.sali, stopped at 1e-6: see the floor check) over a grid
+of initial conditions: the S² affine body with elastic potential over
+initial deformation a × initial deformation rate s, general J against
+isotropic J; the S² gyroscope at fixed energy and spin over the section
+plane x₁ = 0 (angle θ along the great circle, velocity v_θ along it), in
+the separable α̂cos² + β̂cos potential and with a tilt ε⟨x, e₀⟩ added.
+A point is "chaotic" when SALI fell below 1e-6 within T, "regular" when
+it ended at or above 1e-4, else "undecided". The floor check: the smallest
+SALI that chaotic orbits reach with no threshold (a floor, most likely
+the finite-difference tangent map's). The sections: fd.section of the plane x₁ = 0
+for several orbits at equal energy of the point on S² (Kepler, oscillator,
+V = r²/2) and of the gyroscope (separable, tilted).
+
+Writes docs/data/integrability_atlas.csv, integrability_cost.csv,
+integrability_map_s2_affine.csv, integrability_map_s2_gyroscope.csv,
+integrability_maps.csv, integrability_sali_floor.csv,
+integrability_sections.csv and docs/figures/integrability_*.png, and prints
+the tables as Markdown (docs/integrability.md quotes them). Run:
+    .venv/bin/python scripts/integrability_atlas.py               # all
+    .venv/bin/python scripts/integrability_atlas.py --maps-only   # maps, sections, floor
+    .venv/bin/python scripts/integrability_atlas.py --table-only  # table and cost
+    .venv/bin/python scripts/integrability_atlas.py --quick       # small grids, into out/integrability_quick/
 """
 
+import argparse
 import csv
 import math
 import os
 import sys
 import time
+from multiprocessing import get_context
 
 import numpy as np
 
@@ -33,6 +53,7 @@ import framedyn as fd
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DATA = os.path.join(ROOT, "docs", "data")
+FIGURES = os.path.join(ROOT, "docs", "figures")
 
 
 def scene(name, t_end, **changes):
@@ -177,9 +198,9 @@ def write(path, rows):
             w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
 
 
-def main():
+def table(data):
     rows = atlas()
-    write(os.path.join(DATA, "integrability_atlas.csv"), rows)
+    write(os.path.join(data, "integrability_atlas.csv"), rows)
     print("| case | the paper | T | λ(T/10) | λ(T) ± stderr | two trajectories | growth g | SALI: min (< 1e-8 at t) | verdict |")
     print("|---|---|---|---|---|---|---|---|---|")
     for r in rows:
@@ -190,7 +211,7 @@ def main():
             + f" | {r['verdict']} |"
         )
     c = cost()
-    write(os.path.join(DATA, "integrability_cost.csv"), c)
+    write(os.path.join(data, "integrability_cost.csv"), c)
     print()
     print("| scene | dim | plain run | 1 tangent vector | all tangent vectors |")
     print("|---|---|---|---|---|")
@@ -199,6 +220,439 @@ def main():
             f"| {r['scene']} | {r['state_dimension']} | {r['plain_s'] * 1e3:.0f} ms | {r['tangent_1_s'] * 1e3:.0f} ms ({r['ratio_1']:.1f}×; {r['method_steps_1']} steps per step) | "
             f"{r['tangent_all_s'] * 1e3:.0f} ms ({r['ratio_all']:.1f}×; {r['method_steps_all']} steps per step) |"
         )
+
+
+# ---------------------------------------------------------------- maps
+
+MAP_THRESHOLD = 1e-6  # SALI below this: chaotic (about two decades above the floors of sali_floor)
+REGULAR_ABOVE = 1e-4  # final SALI at or above this: regular; in between: undecided
+
+# The affine body of the atlas: ρ = 1 + a·D, ρ̇ = s·Ṙ (a = s = 1: the atlas's
+# "large deformation" state), position r = 0.7, φ̇ = 1.5.
+GENERAL_J = [[0.1, 0.02], [0.02, 0.05]]
+AFFINE_D = np.array([[0.8, 0.3], [0.0, -0.5]])
+AFFINE_RDOT = np.array([[0.0, 0.8], [-0.6, 0.0]])
+AFFINE_H = 0.005
+
+# The gyroscope of s2-gyroscope-cosine (m = 1, I = 0.3) in
+# V = α̂z² + β̂z + εx (x, z embedding components on the unit sphere), spin
+# 0.6, translational energy ½|v|² + V = 1.0 (the energy column adds s²/2I).
+GYRO_ALPHA_HAT, GYRO_BETA_HAT, GYRO_SPIN, GYRO_E = 0.5, -0.4, 0.6, 1.0
+GYRO_EPS = 0.6
+GYRO_H = 0.01
+
+# Initial-energy bands in which the summary counts the chaotic points.
+ENERGY_BANDS = {"s2_affine": [(2.0, 3.0), (3.0, 3.5), (3.5, 4.0), (4.0, 5.0)], "s2_gyroscope": [(1.5, 1.7)]}
+
+
+def affine_scene(a, s, general, t_end, h=AFFINE_H):
+    changes = {
+        "initial.rho": (np.eye(2) + a * AFFINE_D).tolist(),
+        "initial.rho_dot": (s * AFFINE_RDOT).tolist(),
+        "initial.phi_dot": 1.5,
+        "method.h": h,
+    }
+    if general:
+        changes.update({"body.inertia": None, "body.J": GENERAL_J})
+    return scene("s2-affine-elastic", t_end, **changes)
+
+
+def gyro_potential(x, eps):
+    return GYRO_ALPHA_HAT * x[2] ** 2 + GYRO_BETA_HAT * x[2] + eps * x[0]
+
+
+def gyro_scene(eps, theta, v_theta, t_end, h=GYRO_H):
+    """The gyroscope on the great circle x₁ = 0 at angle θ from the north
+    pole towards +x₀, velocity v_θ along the circle and v₁ > 0 across it
+    from the energy; None where v_θ is not allowed at that energy."""
+    x = np.array([math.sin(theta), 0.0, math.cos(theta)])
+    k = 2.0 * (GYRO_E - gyro_potential(x, eps)) - v_theta**2
+    if k < 0.0:
+        return None
+    v = v_theta * np.array([math.cos(theta), 0.0, -math.sin(theta)]) + math.sqrt(k) * np.array([0.0, 1.0, 0.0])
+    d = fd.Scene.example("s2-gyroscope-cosine").to_dict()
+    terms = [{"kind": "cosine", "scale": 1.0, "alpha_hat": GYRO_ALPHA_HAT, "beta_hat": GYRO_BETA_HAT}]
+    if eps != 0.0:
+        terms.append({"kind": "cosine", "scale": 1.0, "beta_hat": eps, "centre": [1.0, 0.0, 0.0]})
+    d["potential"] = {"kind": "sum", "terms": terms}
+    d["initial"] = {"position": x.tolist(), "velocity": v.tolist(), "alpha": 0.0, "spin": GYRO_SPIN}
+    d["time"]["t_end"] = t_end
+    d["method"]["h"] = h
+    d.pop("events", None)
+    return fd.Scene.from_dict(d)
+
+
+def classify(r):
+    if r["chaotic_at"] is not None:
+        return "chaotic"
+    return "regular" if r["sali"] >= REGULAR_ABOVE else "undecided"
+
+
+def initial_record(s):
+    """The first record of a short run of `s` (energy, momenta)."""
+    d = s.to_dict()
+    d["time"]["t_end"] = d["time"]["t0"] + 10 * d["method"]["h"]
+    sol = fd.solve(fd.Scene.from_dict(d))
+    return dict(zip(sol.columns, sol.data[0]))
+
+
+def map_point(task):
+    """One grid point (run in a worker): SALI and the initial energy."""
+    model, variant, p, q, t_end = task
+    if model == "s2_affine":
+        s = affine_scene(p, q, variant == "general J", t_end)
+    else:
+        s = gyro_scene(GYRO_EPS if variant == "tilted" else 0.0, p, q, t_end)
+    row = {"model": model, "variant": variant, "p": p, "q": q, "T": t_end}
+    if s is None:
+        return {**row, "energy": float("nan"), "spin": float("nan"), "sali": float("nan"), "sali_min": float("nan"), "chaotic_at": float("nan"), "steps": 0, "class": "forbidden", "cpu_s": 0.0}
+    rec = initial_record(s)
+    spin = rec["k_12"] - rec["k_21"] if model == "s2_affine" else rec["spin"]
+    c0 = time.process_time()
+    r = fd.sali(s, threshold=MAP_THRESHOLD)
+    cpu = time.process_time() - c0
+    return {
+        **row,
+        "energy": float(rec["energy"]),
+        "spin": float(spin),
+        "sali": r["sali"],
+        "sali_min": r["min"],
+        "chaotic_at": r["chaotic_at"] if r["chaotic_at"] is not None else float("nan"),
+        "steps": r["steps"],
+        "class": classify(r),
+        "cpu_s": cpu,
+    }
+
+
+def centres(lo, hi, n):
+    """n cell centres of [lo, hi] (a grid that avoids its ends)."""
+    return lo + (hi - lo) * (np.arange(n) + 0.5) / n
+
+
+def map_grids(quick):
+    """(model, variants, p values, q values, T, step, axis names)."""
+    if quick:
+        a, s, t_aff = np.linspace(0.0, 1.375, 4), np.linspace(0.0, 3.0, 4), 300.0
+        th, vt, t_gyro = centres(-math.pi, math.pi, 12), centres(-1.9, 1.9, 6), 300.0
+    else:
+        a, s, t_aff = np.arange(12) * 0.125, np.arange(13) * 0.25, 500.0
+        th, vt, t_gyro = centres(-math.pi, math.pi, 30), centres(-1.9, 1.9, 18), 500.0
+    return [
+        ("s2_affine", ("general J", "isotropic J"), a, s, t_aff, AFFINE_H, ("a", "s")),
+        ("s2_gyroscope", ("separable", "tilted"), th, vt, t_gyro, GYRO_H, ("theta", "v_theta")),
+    ]
+
+
+def pool_map(f, tasks, workers):
+    if workers <= 1:
+        return [f(t) for t in tasks]
+    with get_context("spawn").Pool(workers) as pool:
+        return pool.map(f, tasks, chunksize=1)
+
+
+def maps(quick, workers, data, figures):
+    summary = []
+    for model, variants, ps, qs, t_end, h, (pn, qn) in map_grids(quick):
+        tasks = [(model, v, float(p), float(q), t_end) for v in variants for q in qs for p in ps]
+        rows = [{pn: r["p"], qn: r["q"], **{k: v for k, v in r.items() if k not in ("p", "q")}} for r in pool_map(map_point, tasks, workers)]
+        write(os.path.join(data, f"integrability_map_{model}.csv"), [r for r in rows if r["class"] != "forbidden"])
+        for v in variants:
+            mine = [r for r in rows if r["variant"] == v]
+            allowed = [r for r in mine if r["class"] != "forbidden"]
+            count = {c: sum(r["class"] == c for r in allowed) for c in ("chaotic", "undecided", "regular")}
+            times = [r["chaotic_at"] for r in allowed if r["class"] == "chaotic"]
+            regular_sali = [r["sali"] for r in allowed if r["class"] == "regular"]
+            chaotic_p = [r[pn] for r in allowed if r["class"] == "chaotic"]
+            chaotic_e = [r["energy"] for r in allowed if r["class"] == "chaotic"]
+            summary.append(
+                {
+                    "map": model,
+                    "variant": v,
+                    "grid": f"{len(ps)}x{len(qs)}",
+                    "points": len(allowed),
+                    "T": t_end,
+                    "h": h,
+                    "threshold": MAP_THRESHOLD,
+                    "chaotic": count["chaotic"],
+                    "undecided": count["undecided"],
+                    "regular": count["regular"],
+                    "chaotic_fraction": count["chaotic"] / len(allowed),
+                    "t_chaos_median": float(np.median(times)) if times else float("nan"),
+                    "t_chaos_max": float(np.max(times)) if times else float("nan"),
+                    "regular_sali_min": float(np.min(regular_sali)) if regular_sali else float("nan"),
+                    "chaotic_first_parameter_min": float(np.min(chaotic_p)) if chaotic_p else float("nan"),
+                    "chaotic_energy_min": float(np.min(chaotic_e)) if chaotic_e else float("nan"),
+                    "by_energy": " ".join(f"[{lo:g},{hi:g}):{sum(lo <= r['energy'] < hi and r['class'] == 'chaotic' for r in allowed)}/{sum(lo <= r['energy'] < hi for r in allowed)}" for lo, hi in ENERGY_BANDS[model]),
+                    "energy_min": float(np.min([r["energy"] for r in allowed])),
+                    "energy_max": float(np.max([r["energy"] for r in allowed])),
+                    "cpu_s": float(sum(r["cpu_s"] for r in mine)),
+                }
+            )
+            print(f"map {model} {v}: {count} of {len(allowed)}", file=sys.stderr)
+        plot_map(model, variants, ps, qs, rows, (pn, qn), summary[-len(variants):], figures)
+    return summary
+
+
+def affine_drift(quick):
+    """Energy drift of the map's most violent corner (largest a and s) over T."""
+    a, s, t_end = 1.375, 3.0, (300.0 if quick else 500.0)
+    out = []
+    for general in (True, False):
+        sol = fd.solve(affine_scene(a, s, general, t_end))
+        e = sol.energy
+        out.append(float(np.max(np.abs(e - e[0])) / abs(e[0])))
+    return out
+
+
+def plot_map(model, variants, ps, qs, rows, names, summary, figures):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    pn, qn = names
+    fig, axes = plt.subplots(1, len(variants), figsize=(6.2 * len(variants), 4.9), constrained_layout=True)
+    cmap = plt.get_cmap("magma").copy()
+    cmap.set_bad("0.85")
+    dp, dq = (ps[1] - ps[0]) if len(ps) > 1 else 1.0, (qs[1] - qs[0]) if len(qs) > 1 else 1.0
+    extent = [ps[0] - dp / 2, ps[-1] + dp / 2, qs[0] - dq / 2, qs[-1] + dq / 2]
+    for ax, v, summ in zip(axes, variants, summary):
+        z = np.full((len(qs), len(ps)), np.nan)
+        e = np.full((len(qs), len(ps)), np.nan)
+        for r in rows:
+            if r["variant"] != v or r["class"] == "forbidden":
+                continue
+            i, j = int(np.argmin(np.abs(qs - r[qn]))), int(np.argmin(np.abs(ps - r[pn])))
+            z[i, j] = math.log10(max(r["sali"], 1e-12))
+            e[i, j] = r["energy"]
+        im = ax.imshow(np.ma.masked_invalid(z), origin="lower", extent=extent, aspect="auto", cmap=cmap, vmin=math.log10(MAP_THRESHOLD), vmax=0.0, interpolation="nearest")
+        title = f"{v}: chaotic {summ['chaotic']}/{summ['points']} ({100 * summ['chaotic_fraction']:.0f} %), undecided {summ['undecided']}"
+        if model == "s2_affine":
+            cs = ax.contour(ps, qs, e, levels=6, colors="white", linewidths=0.6, alpha=0.8)
+            ax.clabel(cs, fmt="E=%.1f", fontsize=7)
+            ax.plot([1.0], [1.0], marker="*", ms=12, mfc="none", mec="cyan", mew=1.5)
+            ax.set_xlabel(r"initial deformation $a$ ($\rho = 1 + a D$)")
+            ax.set_ylabel(r"initial rate $s$ ($\dot\rho = s\,\dot R$)")
+            ax.set_title(f"S² affine body, elastic, {title}", fontsize=9)
+        else:
+            ax.set_xlabel(r"$\theta$ on the circle $x_1 = 0$ (0: north pole, $\pm\pi$: south)")
+            ax.set_ylabel(r"$v_\theta$")
+            pot = r"$\hat\alpha z^2 + \hat\beta z$" if v == "separable" else rf"$\hat\alpha z^2 + \hat\beta z + {GYRO_EPS}\,x$"
+            ax.set_title(f"S² gyroscope, {pot}: {title}", fontsize=9)
+    fig.colorbar(im, ax=axes, label=r"$\log_{10}$ SALI at the end (runs stop at $10^{-6}$)", shrink=0.9)
+    fig.savefig(os.path.join(figures, f"integrability_map_{model}.png"), dpi=110)
+    plt.close(fig)
+
+
+def sali_floor(quick):
+    """The smallest SALI chaotic orbits reach with no threshold: a floor,
+    most likely the finite-difference tangent map's (it sets the map
+    threshold)."""
+    t_end = 300.0 if quick else 1000.0
+    cases = [
+        ("S² gyroscope, tilted, θ = −3.0, v_θ = 0", 0.005, lambda h: gyro_scene(GYRO_EPS, -3.0, 0.0, t_end, h)),
+        ("S² gyroscope, tilted, θ = −3.0, v_θ = 0", 0.01, lambda h: gyro_scene(GYRO_EPS, -3.0, 0.0, t_end, h)),
+        ("S² gyroscope, tilted, θ = −3.0, v_θ = 0", 0.02, lambda h: gyro_scene(GYRO_EPS, -3.0, 0.0, t_end, h)),
+        ("S² affine body, general J, a = 1, s = 1", 0.005, lambda h: affine_scene(1.0, 1.0, True, t_end, h)),
+        ("S² affine body, general J, a = 1, s = 1", 0.002, lambda h: affine_scene(1.0, 1.0, True, t_end, h)),
+    ]
+    rows = []
+    for name, h, make in cases:
+        r = fd.sali(make(h), threshold=1e-300)
+        rows.append({"case": name, "h": h, "T": t_end, "sali_min": r["min"], "sali_end": r["sali"], "below_1e-8": r["min"] < 1e-8})
+        print(f"floor {name} h = {h}: min {r['min']:.2e}", file=sys.stderr)
+    return rows
+
+
+# Sections of the point on S² at equal energy: (scene, V(r), energy).
+POINT_MODELS = [
+    ("S² point, Kepler (Bertrand)", "s2-point-kepler", lambda r: -1.0 / math.tan(r), -0.5),
+    ("S² point, oscillator (Bertrand)", "s2-point-oscillator", lambda r: 0.5 * math.tan(r) ** 2, 0.5),
+    ("S² point, V = r²/2 (non-Bertrand)", "s2-point-central", lambda r: 0.5 * r * r, 0.5),
+]
+
+
+def r_max(v, energy):
+    lo, hi = 1e-3, math.pi / 2 - 1e-3
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if v(mid) < energy else (lo, mid)
+    return lo
+
+
+POINT_SECTION_H = 0.001  # RK4's error precesses the eccentric Kepler orbits at the scenes' h = 0.005 (see kepler_steps)
+
+
+def point_orbit(task, h=POINT_SECTION_H):
+    """One orbit of a point model at its energy: r₀ = f·(largest r allowed),
+    ṙ₀ = g·(largest ṙ there), φ̇₀ > 0 from the energy; its section (at step
+    h) and SALI (at the scene's step)."""
+    name, example, k, f, g, t_end = task
+    v, energy = POINT_MODELS[k][2], POINT_MODELS[k][3]
+    r0 = f * r_max(v, energy)
+    kinetic = 2.0 * (energy - v(r0))
+    rdot0 = g * math.sqrt(kinetic)
+    phi_dot = math.sqrt(kinetic - rdot0**2) / math.sin(r0)
+    initial = {"initial.r": r0, "initial.r_dot": rdot0, "initial.phi": 0.0, "initial.phi_dot": phi_dot}
+    sec = fd.section(scene(example, t_end, **initial, **{"method.h": h}), plane=[0.0, 1.0, 0.0], direction="rising")
+    r = fd.sali(scene(example, t_end, **initial), threshold=MAP_THRESHOLD)
+    q, p = sec.column("r"), sec.column("r_dot")
+    return {
+        "model": name,
+        "energy": float(np.mean(sec.column("energy"))),
+        "q0": r0,
+        "p0": rdot0,
+        "crossings": len(sec),
+        "spread_q": float(np.ptp(q)),
+        "spread_p": float(np.ptp(p)),
+        "sali": r["sali"],
+        "class": classify(r),
+        "points_q": q,
+        "points_p": p,
+    }
+
+
+def gyro_orbit(task):
+    eps, theta, v_theta, t_end = task
+    s = gyro_scene(eps, theta, v_theta, t_end)
+    if s is None:
+        return None
+    sec = fd.section(s, plane=[0.0, 1.0, 0.0], direction="rising")
+    x0, x2, v0, v2 = (sec.column(c) for c in ("x0", "x2", "v0", "v2"))
+    q, p = np.arctan2(x0, x2), x2 * v0 - x0 * v2
+    r = fd.sali(gyro_scene(eps, theta, v_theta, min(t_end, 500.0)), threshold=MAP_THRESHOLD)
+    return {
+        "model": "S² gyroscope, separable" if eps == 0.0 else f"S² gyroscope, tilted (ε = {eps})",
+        "energy": float(np.mean(sec.column("energy"))),
+        "q0": theta,
+        "p0": v_theta,
+        "crossings": len(sec),
+        "spread_q": float(np.ptp(q)),
+        "spread_p": float(np.ptp(p)),
+        "sali": r["sali"],
+        "class": classify(r),
+        "points_q": q,
+        "points_p": p,
+    }
+
+
+def kepler_steps(quick):
+    """The most eccentric Kepler orbit of the section at three steps: the
+    spread of its crossings is RK4's error, not the dynamics."""
+    t_end = 100.0 if quick else 300.0
+    name, example = POINT_MODELS[0][0], POINT_MODELS[0][1]
+    return [{"h": h, "spread_r": point_orbit((name, example, 0, 0.9, 0.5, t_end), h)["spread_q"]} for h in (0.005, 0.002, 0.001)]
+
+
+def sections(quick, workers, data, figures):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    t_point, t_gyro = (100.0, 400.0) if quick else (300.0, 1500.0)
+    point_tasks = [(name, ex, k, f, g, t_point) for k, (name, ex, _, _) in enumerate(POINT_MODELS) for f, g in ((0.3, 0.0), (0.5, 0.0), (0.7, 0.0), (0.9, 0.0), (0.5, 0.5), (0.7, 0.5), (0.9, 0.5))]
+    thetas = np.linspace(-3.0, 3.0, 7 if quick else 13)
+    gyro_tasks = [(eps, float(th), vt, t_gyro) for eps in (0.0, GYRO_EPS) for th, vt in [(t, 0.0) for t in thetas] + [(-1.0, 1.0), (1.0, 1.0), (-2.2, 1.2), (2.2, 1.2)]]
+    points = pool_map(point_orbit, point_tasks, workers)
+    gyros = [o for o in pool_map(gyro_orbit, gyro_tasks, workers) if o is not None]
+
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), constrained_layout=True)
+    for ax, (name, _, _, energy) in zip(axes, POINT_MODELS):
+        mine = [o for o in points if o["model"] == name]
+        for o in mine:
+            ax.plot(o["points_q"], o["points_p"], ".", ms=3 if o["spread_q"] < 1e-3 else 1.2)
+        worst = max(o["spread_q"] for o in mine)
+        ax.set_title(f"{name}, E = {energy:g}\n{len(mine)} orbits, largest spread of r over its crossings: {worst:.1e}", fontsize=9)
+        ax.set_xlabel("r at the crossing of x₁ = 0 (rising)")
+        ax.set_ylabel("ṙ")
+    fig.savefig(os.path.join(figures, "integrability_sections_s2_point.png"), dpi=110)
+    plt.close(fig)
+
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.2), constrained_layout=True, sharey=True)
+    colours = plt.get_cmap("tab20")
+    for ax, eps in zip(axes, (0.0, GYRO_EPS)):
+        mine = [o for o in gyros if (o["model"] == "S² gyroscope, separable") == (eps == 0.0)]
+        for i, o in enumerate(mine):
+            if o["class"] == "chaotic":
+                ax.plot(o["points_q"], o["points_p"], ".", ms=1.5, color="black")
+            else:
+                ax.plot(o["points_q"], o["points_p"], ".", ms=1.5, color=colours(i % 20) if o["class"] == "regular" else "0.55")
+        n_chaotic = sum(o["class"] == "chaotic" for o in mine)
+        pot = "α̂z² + β̂z" if eps == 0.0 else f"α̂z² + β̂z + {eps}·x"
+        ax.set_title(f"S² gyroscope, V = {pot}, E = {mine[0]['energy']:.2f}, spin {GYRO_SPIN}\n{len(mine)} orbits, {n_chaotic} chaotic by SALI (black), undecided grey", fontsize=9)
+        ax.set_xlabel("θ at the crossing of x₁ = 0 (rising)")
+    axes[0].set_ylabel("v_θ")
+    fig.savefig(os.path.join(figures, "integrability_sections_s2_gyroscope.png"), dpi=110)
+    plt.close(fig)
+
+    rows = [{k: v for k, v in o.items() if not k.startswith("points_")} for o in points + gyros]
+    write(os.path.join(data, "integrability_sections.csv"), rows)
+    return rows
+
+
+def print_maps(summary, drift, floor, sec_rows, kepler):
+    print()
+    print("| map | variant | grid (points) | T | chaotic (SALI < 1e-6) | undecided | regular | chaotic fraction | t at 1e-6: median, max | smallest final SALI of the regular | initial energy | CPU |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in summary:
+        times = "—" if math.isnan(r["t_chaos_median"]) else f"{r['t_chaos_median']:.0f}, {r['t_chaos_max']:.0f}"
+        print(
+            f"| {r['map']} | {r['variant']} | {r['grid']} ({r['points']}) | {r['T']:g} | {r['chaotic']} | {r['undecided']} | {r['regular']} | "
+            f"{100 * r['chaotic_fraction']:.1f} % | {times} | {r['regular_sali_min']:.1e} | {r['energy_min']:.2f} … {r['energy_max']:.2f} | {r['cpu_s']:.0f} s |"
+        )
+    print()
+    for r in summary:
+        if r["map"] == "s2_affine":
+            print(f"{r['map']} {r['variant']}: chaotic by initial energy (band: chaotic/points) {r['by_energy']}; smallest a of a chaotic point {r['chaotic_first_parameter_min']:g}, lowest initial energy {r['chaotic_energy_min']:.2f}")
+    if drift is not None:
+        print(f"\naffine map corner (a = 1.375, s = 3) relative energy drift over T: general J {drift[0]:.1e}, isotropic J {drift[1]:.1e}")
+    print()
+    print("| SALI floor: case | h | T | smallest SALI (no threshold) | SALI at T |")
+    print("|---|---|---|---|---|")
+    for r in floor:
+        print(f"| {r['case']} | {r['h']:g} | {r['T']:g} | {r['sali_min']:.1e} | {r['sali_end']:.1e} |")
+    print()
+    print("most eccentric Kepler orbit of the section, spread of r over its crossings: " + ", ".join(f"{r['spread_r']:.1e} at h = {r['h']:g}" for r in kepler))
+    print()
+    print("| section: model | E | orbits | crossings per orbit | largest spread of q over an orbit's crossings | SALI classes |")
+    print("|---|---|---|---|---|---|")
+    for m in dict.fromkeys(r["model"] for r in sec_rows):
+        mine = [r for r in sec_rows if r["model"] == m]
+        classes = {c: sum(r["class"] == c for r in mine) for c in ("chaotic", "undecided", "regular")}
+        print(
+            f"| {m} | {mine[0]['energy']:.3f} | {len(mine)} | {min(r['crossings'] for r in mine)} … {max(r['crossings'] for r in mine)} | "
+            + (f"{max(r['spread_q'] for r in mine):.1e}" if m.startswith("S² point") else "—")
+            + " | "
+            + ", ".join(f"{n} {c}" for c, n in classes.items() if n) + " |"
+        )
+
+
+def main():
+    ap = argparse.ArgumentParser(description="Integrability atlas (issue 21): the table of exponents, its cost, SALI maps and Poincaré sections.")
+    ap.add_argument("--quick", action="store_true", help="small grids and short runs, written to out/integrability_quick/")
+    ap.add_argument("--maps-only", action="store_true", help="maps, sections and the SALI floor only (not the table and cost)")
+    ap.add_argument("--table-only", action="store_true", help="the table and cost only (not the maps)")
+    ap.add_argument("--workers", type=int, default=2, help="worker processes for the maps (1 or 2)")
+    args = ap.parse_args()
+    workers = max(1, min(2, args.workers))
+    data, figures = DATA, FIGURES
+    if args.quick:
+        data = figures = os.path.join(ROOT, "out", "integrability_quick")
+        os.makedirs(data, exist_ok=True)
+    t0 = time.perf_counter()
+    if not args.maps_only:
+        table(data)
+    if not args.table_only:
+        summary = maps(args.quick, workers, data, figures)
+        write(os.path.join(data, "integrability_maps.csv"), summary)
+        drift = affine_drift(args.quick)
+        floor = sali_floor(args.quick)
+        write(os.path.join(data, "integrability_sali_floor.csv"), floor)
+        sec_rows = sections(args.quick, workers, data, figures)
+        kepler = kepler_steps(args.quick)
+        print_maps(summary, drift, floor, sec_rows, kepler)
+    print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
 
 
 if __name__ == "__main__":
