@@ -57,6 +57,9 @@ if grep -rln --include='*.rs' -e '#\[cfg(test)\]' -e '#\[test\]' crates/framedyn
     echo "move them to tests/suite/internals/ (docs/development.md, \"Why the core has no unit-test binary\")" >&2
     exit 1
 fi
+# The dev profile's opt-level-0 exceptions must not reach a binary of ours
+# (Cargo.toml explains why; a few seconds of `cargo metadata`).
+"$PY" scripts/check_profile.py
 cargo test --workspace --all-targets
 step "cargo test (build and run)"
 cargo test --workspace --doc
