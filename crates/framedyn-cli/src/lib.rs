@@ -8,6 +8,7 @@
 //! framedyn methods               # the integration methods (the registry)
 //! framedyn sweep SCENE --table members.csv|npz [--output results.npz] [--keep all|final] [--samples K] [--threads N] [--no-space-check]
 //! framedyn lyapunov SCENE [--exponents K|all] [--two-trajectory] [--output RUNNING.csv] …   # see [`analysis`]
+//! framedyn sali SCENE [--threshold X] [--seed S] [--eps E] [--fourth-order]                 # see [`analysis`]
 //! framedyn section SCENE [--event NAME | --plane N | --column NAME --value V] [--direction D] [--output SECTION.csv]
 //! ```
 //!
@@ -181,6 +182,23 @@ enum Command {
         /// Write the running estimates (t, lambda_1, …) to this CSV.
         #[arg(short, long)]
         output: Option<PathBuf>,
+    },
+    /// SALI, the Smaller Alignment Index, of a scene's trajectory: a fast chaos indicator (its method and fixed step h).
+    Sali {
+        /// Scene file (.toml or .json) or embedded scene name.
+        scene: String,
+        /// The SALI below which the orbit is called chaotic (the run stops there), 0 < threshold < 1.
+        #[arg(long, default_value_t = 1e-8)]
+        threshold: f64,
+        /// Seed of the two random initial tangent vectors.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Perturbation of the central differences of the step map (default 1e-5; 1e-3 with --fourth-order).
+        #[arg(long)]
+        eps: Option<f64>,
+        /// Fourth-order central differences (twice the cost).
+        #[arg(long)]
+        fourth_order: bool,
     },
     /// Poincaré section of a scene's trajectory: its crossings of a plane, a column value or an [[events]] entry, as CSV.
     Section {
@@ -356,6 +374,10 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
             };
             let args = analysis::LyapunovArgs { exponents, every, transient, batches, seed, eps, fourth_order, two_trajectory, output };
             analysis::lyapunov(&s, &origin, &args)
+        }
+        Command::Sali { scene, threshold, seed, eps, fourth_order } => {
+            let (s, origin) = load(&scene)?;
+            analysis::sali(&s, &origin, &analysis::SaliArgs { threshold, seed, eps, fourth_order })
         }
         Command::Section { scene, event, plane, offset, column, value, direction, output } => {
             let (s, origin) = load(&scene)?;

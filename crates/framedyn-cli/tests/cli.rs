@@ -778,6 +778,72 @@ fn lyapunov_and_section_refuse_bad_input() {
     assert!(stderr(&o).contains("method.h"), "{}", stderr(&o));
 }
 
+/// The S² gyroscope of the atlas's tilted map (docs/integrability.md):
+/// α̂cos² + β̂cos about the pole plus 0.6·cos about e₀, a chaotic orbit.
+const TILTED_GYROSCOPE: &str = r#"
+[manifold]
+kind = "S2"
+[body]
+kind = "gyroscope"
+mass = 1.0
+inertia = 0.3
+[potential]
+kind = "sum"
+[[potential.terms]]
+kind = "cosine"
+alpha_hat = 0.5
+beta_hat = -0.4
+[[potential.terms]]
+kind = "cosine"
+beta_hat = 0.6
+centre = [1.0, 0.0, 0.0]
+[initial]
+position = [-0.9781467351960749, 0.0, -0.20791576281095117]
+velocity = [-0.1975199746704036, 1.4358671622268089, 0.9292393984362711]
+spin = 0.6
+[method]
+name = "rk4"
+h = 0.01
+[time]
+t_end = 300.0
+"#;
+
+/// `sali` calls the tilted gyroscope chaotic at the time the library's
+/// `Scene::sali` finds, and the Kepler orbit regular; bad settings exit 2
+/// naming the option.
+#[test]
+fn sali_tells_chaotic_from_regular() {
+    let dir = tmpdir("sali");
+    let path = dir.join("tilted.toml");
+    fs::write(&path, TILTED_GYROSCOPE).unwrap();
+    let o = framedyn(&["sali", path.to_str().unwrap(), "--threshold", "1e-6"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let scene = Scene::from_toml_str(TILTED_GYROSCOPE).unwrap();
+    let mut opts = scene.sali_options().unwrap();
+    opts.threshold = 1e-6;
+    let e = scene.sali(&opts, &AtomicBool::new(false)).unwrap();
+    let t = e.chaotic_at.expect("the tilted gyroscope is chaotic");
+    assert!(t < 200.0, "chaotic only at t = {t}");
+    let out = stdout(&o);
+    assert!(out.contains(&format!("verdict:         chaotic (SALI < 1e-6 at t = {t:?})")), "{out}");
+    assert!(out.contains(&format!("min:             {:.6e}", e.min)), "{out}");
+
+    let o = framedyn(&["sali", "s2-point-kepler"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stdout(&o).contains("verdict:         regular"), "{}", stdout(&o));
+
+    for (args, needle) in [
+        (&["sali", "s2-point-kepler", "--threshold", "0"][..], "invalid --threshold = 0"),
+        (&["sali", "s2-point-kepler", "--threshold", "1"][..], "invalid --threshold = 1"),
+        (&["sali", "s2-point-kepler", "--eps", "1"][..], "invalid --eps = 1"),
+    ] {
+        let o = framedyn(args, &dir);
+        assert_eq!(code(&o), 2, "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+    }
+    let _ = fs::remove_dir_all(&dir);
+}
+
 /// `section` writes the crossings as CSV (`rising` then every record column)
 /// at the crossed value.
 #[test]
