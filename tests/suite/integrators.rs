@@ -409,7 +409,8 @@ where
 /// (DOP853, s = 12) `1 + s·accepted + (s−1)·rejected` — `f(t₀, y₀)`, the
 /// trial evaluation of the first-step selection, and `f(t₁, y₁)` paid once
 /// per accepted step as the next step's first stage (a rejected step reuses
-/// its first stage).
+/// its first stage) — plus `(s−1)` per first step taken again
+/// (`first_step_probes`, which reuse their first stage like a rejection).
 fn adaptive_errors_with<S, M>(label: &str, sys: &S, y0: S::State, t_end: f64, ks: std::ops::RangeInclusive<i32>, m: &M) -> Vec<(f64, f64)>
 where
     S: System + Clone,
@@ -437,7 +438,8 @@ where
         );
         // Steps abandoned by the radius guard cost at most a full step.
         let st = info.stages;
-        let full = if info.fsal { 2 + (st - 1) * (s.accepted + s.rejected) } else { 1 + st * s.accepted + (st - 1) * s.rejected };
+        let full = if info.fsal { 2 + (st - 1) * (s.accepted + s.rejected) } else { 1 + st * s.accepted + (st - 1) * s.rejected }
+            + (st - 1) * s.first_step_probes;
         if s.rejected_radius == 0 {
             assert_eq!(s.rhs_evals, full, "{label}: evaluation count");
         } else {

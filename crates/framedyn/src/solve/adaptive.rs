@@ -84,6 +84,30 @@ pub fn error_norm<A: AlgebraVector>(e: &A, s0: &A, s1: &A, atol: &A, rtol: &A) -
     m
 }
 
+/// How often the automatic first step may be taken again (see
+/// [`FIRST_STEP_PROBE_BELOW`]).
+pub(super) const FIRST_STEP_PROBES: u32 = 3;
+
+/// The first step is a probe. The step of [`initial_step`] comes from
+/// first-order estimates and is deliberately small: DOP853's error norm on
+/// it is typically 1e-6 … 1e-5, against the 0.15 its PI controller settles
+/// at (`safety^{1/(α−β)}`). Accepted as it is, the run began with a ramp of
+/// under-sized steps — with `α − β = 0.055` the controller grows the step
+/// by only 1.1 – 2× per step while the error stays far below its target —
+/// and on a short run at a loose tolerance that ramp was most of the run,
+/// so the error fell far below `tol` there and was proportional to `tol`
+/// only at tight tolerances (0.009 × tol at 1e-6 and 0.64 × tol at 1e-12 on
+/// an escape on H², a fitted slope of 0.72). So while the controller's own
+/// next step, `err·(safety·err^{−α}·err_prev^β)^{q+1}` for an estimate
+/// `O(h^{q+1})`, would still leave the error below this value, the first
+/// step is not accepted but taken again with `h·clamp((aim/err)^{1/(q+1)},
+/// 1, fac_max)`, `aim = safety^{1/(α−β)}`, at most [`FIRST_STEP_PROBES`]
+/// times (never for a first step the user gives as `h0`, one that reaches
+/// `t_end` or one at `h_max`). DOPRI5, whose controller climbs from its
+/// first step in one or two steps, is rarely probed. The probes' work is
+/// counted in the statistics, as `first_step_probes`, not as rejections.
+pub(super) const FIRST_STEP_PROBE_BELOW: f64 = 1e-2;
+
 /// The smallest step the driver takes away from `t_end`: `max(h_min,
 /// 16ε·max(|t|, |t_end|))`. Relative to the size of the span's times, so that
 /// a run starting at `t = 0` cannot shrink its step to zero either.

@@ -476,6 +476,12 @@ where
         let mut f_cache = Some(f0);
         let mut err_prev: f64 = 1e-4;
         let mut rejected_last = false;
+        // The automatic first step is a probe (see `adaptive::FIRST_STEP_PROBES`);
+        // a first step the user chose is taken as given.
+        let mut probes = if a.h0.is_none() { adaptive::FIRST_STEP_PROBES } else { 0 };
+        // Aimed at the error the controller settles at on a smooth problem,
+        // `safety^{1/(α−β)}` (DOP853 0.15, DOPRI5 0.44 with the default PI).
+        let probe_aim = if alpha > ctl.beta { ctl.safety.powf(1.0 / (alpha - ctl.beta)) } else { adaptive::FIRST_STEP_PROBE_BELOW };
         loop {
             let t = self.t;
             let remaining = self.t_end - t;
@@ -516,6 +522,21 @@ where
             let err = adaptive::error_norm(&e, &self.y.tolerance_scale(), &out.y.tolerance_scale(), &atol, &rtol);
             if err.is_nan() {
                 return Err(SolveError::NonFinite { what: NonFiniteSource::Increment, t_eval: t1, t, h }.into());
+            }
+            if probes > 0 && self.stats.accepted == 0 && t1 != self.t_end && h.abs() < h_max {
+                // What the controller's own next step would reach if the error
+                // grew like h^{q+1}: a ramp still far below the target is
+                // replaced by a probe (`adaptive::FIRST_STEP_PROBE_BELOW`).
+                probes -= 1;
+                let ramp = err * (ctl.safety * err.powf(-alpha) * err_prev.powf(ctl.beta)).clamp(ctl.fac_min, ctl.fac_max).powf(1.0 / expo);
+                let grow = (probe_aim / err).powf(expo).clamp(1.0, ctl.fac_max);
+                if ramp < adaptive::FIRST_STEP_PROBE_BELOW && grow > 1.0 {
+                    self.stats.first_step_probes += 1;
+                    f_cache = Some(out.f_start);
+                    h = (h * grow).clamp(-h_max, h_max);
+                    continue;
+                }
+                probes = 0;
             }
             if err <= 1.0 {
                 let mut fac = (ctl.safety * err.powf(-alpha) * err_prev.powf(ctl.beta)).clamp(ctl.fac_min, ctl.fac_max);

@@ -137,6 +137,17 @@ impl Default for Controller {
 /// a scene can ask for an estimate of its global error (`[method]
 /// global_error = true`).
 ///
+/// **First step.** Without `h0` the first step is chosen as in \[HNW93\]
+/// §II.4 and then used as a probe: while the controller's own next step
+/// would still leave the error below 1e-2 (the formula's step is
+/// deliberately small, and DOP853's PI controller climbs slowly from it),
+/// it is taken again with the step that aims at the error the controller
+/// settles at, at most three times
+/// ([`Stats::first_step_probes`](super::Stats::first_step_probes)).
+/// Accepted as it was, a short run at a loose tolerance spent most of its
+/// span ramping up from it, with errors far below `tol` there
+/// (`docs/performance.md`, "Tolerance proportionality").
+///
 /// **Tolerance limits.** `rtol ≥` [`RTOL_MIN`] `= 1e-14` (below it the
 /// error estimate is round-off) and `atol > 0`, both finite; an `atol` so
 /// small that the first step underflows (a component that is zero at `t₀`
@@ -152,9 +163,10 @@ pub struct Adaptive {
     pub rtol: Tol,
     /// Absolute tolerance(s), finite and `> 0`.
     pub atol: Tol,
-    /// First step `|h₀|`; `None` selects it as in \[HNW93\] §II.4 (with an
-    /// explicit Lie–Euler trial step, and `|h₀|·ρ(ad f₀)` at most half the
-    /// radius guard).
+    /// First step `|h₀|`, taken as given; `None` selects it as in
+    /// \[HNW93\] §II.4 (with an explicit Lie–Euler trial step, and
+    /// `|h₀|·ρ(ad f₀)` at most half the radius guard) and probes it (see
+    /// "First step" above).
     pub h0: Option<f64>,
     /// Smallest allowed `|h|` (the effective minimum is `max(h_min, 16ε·max(|t|, |t_end|))`).
     pub h_min: f64,

@@ -34,6 +34,11 @@ pub struct Stats {
     /// Of the rejected steps, those abandoned by the `dexp⁻¹` radius guard
     /// (their partial work is counted in the other fields).
     pub rejected_radius: usize,
+    /// Automatic first steps taken again with a larger step because their
+    /// error was far below the tolerance (not rejections; see
+    /// [`Adaptive`](super::Adaptive), "First step"). Their work is counted in
+    /// the other fields.
+    pub first_step_probes: usize,
     /// Evaluations of the vector field (steps, first-step selection).
     pub rhs_evals: usize,
     /// Group exponentials in steps and dense-output samples.
@@ -58,6 +63,7 @@ impl Default for Stats {
             accepted: 0,
             rejected: 0,
             rejected_radius: 0,
+            first_step_probes: 0,
             rhs_evals: 0,
             exps: 0,
             brackets: 0,
