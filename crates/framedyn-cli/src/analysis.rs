@@ -30,13 +30,38 @@
 use std::io::Write;
 use std::path::Path;
 
-use framedyn::analysis::{AnalysisError, Difference, Linearisation};
+use framedyn::analysis::{AnalysisError, Linearisation};
 use framedyn::scenes::{EventDirection, EventKind, EventSpec, Scene, SceneAnalysisError};
 
 use crate::{signals, target, EXIT_INTEGRATION, EXIT_INVALID, EXIT_IO};
 
 /// Exit code: bad command line.
 const EXIT_USAGE: u8 = 2;
+
+/// The tangent vectors' settings, shared by `lyapunov` and `sali`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct TangentArgs {
+    /// Seed of the random initial tangent vectors.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Perturbation of the central differences of the step map (default 1e-5; 1e-3 with --fourth-order).
+    #[arg(long)]
+    pub eps: Option<f64>,
+    /// Fourth-order central differences (twice the cost).
+    #[arg(long)]
+    pub fourth_order: bool,
+}
+
+impl TangentArgs {
+    /// The linearisation of the step map these options ask for.
+    fn linearisation(&self) -> Linearisation {
+        let mut l = if self.fourth_order { Linearisation::fourth_order() } else { Linearisation::default() };
+        if let Some(eps) = self.eps {
+            l.eps = eps;
+        }
+        l
+    }
+}
 
 /// The settings of `framedyn lyapunov` besides the scene.
 #[derive(Debug, Clone)]
@@ -49,12 +74,8 @@ pub struct LyapunovArgs {
     pub transient: f64,
     /// Batches of the standard error.
     pub batches: usize,
-    /// Seed of the initial frame.
-    pub seed: u64,
-    /// Perturbation of the central differences.
-    pub eps: Option<f64>,
-    /// Fourth-order differences.
-    pub fourth_order: bool,
+    /// Seed and linearisation of the tangent vectors.
+    pub tangent: TangentArgs,
     /// Add the two-trajectory estimate.
     pub two_trajectory: bool,
     /// Where to write the running estimates.
@@ -109,14 +130,8 @@ pub fn lyapunov(scene: &Scene, origin: &str, args: &LyapunovArgs) -> Result<(), 
     opts.renormalise_every = args.every;
     opts.transient = args.transient;
     opts.batches = args.batches;
-    opts.seed = args.seed;
-    if args.fourth_order {
-        opts.linearisation = Linearisation::fourth_order();
-    }
-    opts.linearisation.difference = if args.fourth_order { Difference::Central4 } else { Difference::Central2 };
-    if let Some(eps) = args.eps {
-        opts.linearisation.eps = eps;
-    }
+    opts.seed = args.tangent.seed;
+    opts.linearisation = args.tangent.linearisation();
     let started = std::time::Instant::now();
     let e = scene.lyapunov(&opts, cancel).map_err(|e| error(origin, e))?;
     let wall = started.elapsed().as_secs_f64();
@@ -125,7 +140,7 @@ pub fn lyapunov(scene: &Scene, origin: &str, args: &LyapunovArgs) -> Result<(), 
         o.renormalise_every = args.every;
         o.transient = args.transient;
         o.batches = args.batches;
-        o.seed = args.seed;
+        o.seed = args.tangent.seed;
         Some(scene.two_trajectory(&o, cancel).map_err(|e| error(origin, e))?)
     } else {
         None
@@ -170,12 +185,8 @@ pub fn lyapunov(scene: &Scene, origin: &str, args: &LyapunovArgs) -> Result<(), 
 pub struct SaliArgs {
     /// SALI below which the orbit is called chaotic.
     pub threshold: f64,
-    /// Seed of the two initial tangent vectors.
-    pub seed: u64,
-    /// Perturbation of the central differences.
-    pub eps: Option<f64>,
-    /// Fourth-order differences.
-    pub fourth_order: bool,
+    /// Seed and linearisation of the two tangent vectors.
+    pub tangent: TangentArgs,
 }
 
 /// `framedyn sali`.
@@ -183,13 +194,8 @@ pub fn sali(scene: &Scene, origin: &str, args: &SaliArgs) -> Result<(), (u8, Str
     let cancel = signals::arm();
     let mut opts = scene.sali_options().map_err(|e| error(origin, e.into()))?;
     opts.threshold = args.threshold;
-    opts.seed = args.seed;
-    if args.fourth_order {
-        opts.linearisation = Linearisation::fourth_order();
-    }
-    if let Some(eps) = args.eps {
-        opts.linearisation.eps = eps;
-    }
+    opts.seed = args.tangent.seed;
+    opts.linearisation = args.tangent.linearisation();
     let started = std::time::Instant::now();
     let e = scene.sali(&opts, cancel).map_err(|e| error(origin, e))?;
     println!("scene:           {origin}");

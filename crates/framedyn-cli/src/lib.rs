@@ -167,15 +167,8 @@ enum Command {
         /// Batches of the batch-means standard error.
         #[arg(long, default_value_t = 10)]
         batches: usize,
-        /// Seed of the random initial tangent frame.
-        #[arg(long, default_value_t = 1)]
-        seed: u64,
-        /// Perturbation of the central differences of the step map (default 1e-5; 1e-3 with --fourth-order).
-        #[arg(long)]
-        eps: Option<f64>,
-        /// Fourth-order central differences (twice the cost).
-        #[arg(long)]
-        fourth_order: bool,
+        #[command(flatten)]
+        tangent: analysis::TangentArgs,
         /// Also estimate the maximal exponent from two nearby trajectories.
         #[arg(long)]
         two_trajectory: bool,
@@ -190,15 +183,8 @@ enum Command {
         /// The SALI below which the orbit is called chaotic (the run stops there), 0 < threshold < 1.
         #[arg(long, default_value_t = 1e-8)]
         threshold: f64,
-        /// Seed of the two random initial tangent vectors.
-        #[arg(long, default_value_t = 1)]
-        seed: u64,
-        /// Perturbation of the central differences of the step map (default 1e-5; 1e-3 with --fourth-order).
-        #[arg(long)]
-        eps: Option<f64>,
-        /// Fourth-order central differences (twice the cost).
-        #[arg(long)]
-        fourth_order: bool,
+        #[command(flatten)]
+        tangent: analysis::TangentArgs,
     },
     /// Poincaré section of a scene's trajectory: its crossings of a plane, a column value or an [[events]] entry, as CSV.
     Section {
@@ -366,18 +352,18 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
             };
             run_sweep(s, &origin, &table, &output, keep, (threads, oversubscribe), (quiet, !no_space_check))
         }
-        Command::Lyapunov { scene, exponents, every, transient, batches, seed, eps, fourth_order, two_trajectory, output } => {
+        Command::Lyapunov { scene, exponents, every, transient, batches, tangent, two_trajectory, output } => {
             let (s, origin) = load(&scene)?;
             let exponents = match exponents.as_str() {
                 "all" => None,
                 k => Some(k.parse::<usize>().map_err(|_| (2, format!("invalid --exponents = {k:?}: must be a positive integer or `all`")))?),
             };
-            let args = analysis::LyapunovArgs { exponents, every, transient, batches, seed, eps, fourth_order, two_trajectory, output };
+            let args = analysis::LyapunovArgs { exponents, every, transient, batches, tangent, two_trajectory, output };
             analysis::lyapunov(&s, &origin, &args)
         }
-        Command::Sali { scene, threshold, seed, eps, fourth_order } => {
+        Command::Sali { scene, threshold, tangent } => {
             let (s, origin) = load(&scene)?;
-            analysis::sali(&s, &origin, &analysis::SaliArgs { threshold, seed, eps, fourth_order })
+            analysis::sali(&s, &origin, &analysis::SaliArgs { threshold, tangent })
         }
         Command::Section { scene, event, plane, offset, column, value, direction, output } => {
             let (s, origin) = load(&scene)?;
