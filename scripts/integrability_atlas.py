@@ -496,12 +496,17 @@ def point_orbit(task, h=POINT_SECTION_H):
     initial = {"initial.r": r0, "initial.r_dot": rdot0, "initial.phi": 0.0, "initial.phi_dot": phi_dot}
     sec = fd.section(scene(example, t_end, **initial, **{"method.h": h}), plane=[0.0, 1.0, 0.0], direction="rising")
     r = fd.sali(scene(example, t_end, **initial), threshold=MAP_THRESHOLD)
-    q, p = sec.column("r"), sec.column("r_dot")
+    return orbit_row(name, sec, r0, rdot0, sec.column("r"), sec.column("r_dot"), r)
+
+
+def orbit_row(model, sec, q0, p0, q, p, r):
+    """One orbit of a section plot: its start (q0, p0), its crossings in the
+    section's coordinates (q, p) with their spread, and its SALI verdict."""
     return {
-        "model": name,
+        "model": model,
         "energy": float(np.mean(sec.column("energy"))),
-        "q0": r0,
-        "p0": rdot0,
+        "q0": q0,
+        "p0": p0,
         "crossings": len(sec),
         "spread_q": float(np.ptp(q)),
         "spread_p": float(np.ptp(p)),
@@ -521,19 +526,8 @@ def gyro_orbit(task):
     x0, x2, v0, v2 = (sec.column(c) for c in ("x0", "x2", "v0", "v2"))
     q, p = np.arctan2(x0, x2), x2 * v0 - x0 * v2
     r = fd.sali(gyro_scene(eps, theta, v_theta, min(t_end, 500.0)), threshold=MAP_THRESHOLD)
-    return {
-        "model": "S² gyroscope, separable" if eps == 0.0 else f"S² gyroscope, tilted (ε = {eps})",
-        "energy": float(np.mean(sec.column("energy"))),
-        "q0": theta,
-        "p0": v_theta,
-        "crossings": len(sec),
-        "spread_q": float(np.ptp(q)),
-        "spread_p": float(np.ptp(p)),
-        "sali": r["sali"],
-        "class": classify(r),
-        "points_q": q,
-        "points_p": p,
-    }
+    model = "S² gyroscope, separable" if eps == 0.0 else f"S² gyroscope, tilted (ε = {eps})"
+    return orbit_row(model, sec, theta, v_theta, q, p, r)
 
 
 def kepler_steps(quick):
