@@ -251,14 +251,14 @@ spin = 0.0
 /// H² to r = 17 R and a passage 3e-8 R from the S² pole — DOP853's error is
 /// proportional to tol (slope in [0.8, 1.2]) and within 20 × tol, DOPRI5's
 /// within 50 × tol (measured: escape 0.24 – 1.2 × and 7.0 – 12.5 × tol,
-/// pole 0.47 – 0.96 × and 0.46 – 0.78 × tol). When the first step of
-/// [HNW93] was accepted as it is (no probe), DOP853's error fell to 0.009 ×
-/// and 0.03 × tol at tol 1e-6 — the run is a ramp of under-sized steps
-/// there — with slopes 0.62 and 0.64 over these tolerances. On the escape
-/// the global-error estimate of the run at tol 1e-11 is within a factor 3
-/// of the error at the last record too (measured 1.01; without the probe
-/// 3.46: the reference run at tol/100 was only 36 × more accurate than the
-/// run, not 100 ×).
+/// pole 0.47 – 0.96 × and 0.46 – 0.78 × tol). The test fails if the first
+/// step of [HNW93] is accepted as it is (no probe): DOP853's error then
+/// falls to 0.009 × and 0.03 × tol at tol 1e-6 — the run is a ramp of
+/// under-sized steps there — with slopes 0.62 and 0.64 over these
+/// tolerances. On the escape the global-error estimate of the run at
+/// tol 1e-11 is within a factor 3 of the error at the last record too
+/// (measured 1.01; without the probe 3.46, the reference run at tol/100
+/// being only 36 × more accurate than the run, not 100 ×).
 #[test]
 fn adaptive_error_is_proportional_to_tol_on_an_escape_and_a_pole_passage() {
     let r = errors("H² escape", H2_ESCAPE, 20.0, 2e-3, 1e-12);
