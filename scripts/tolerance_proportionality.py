@@ -31,7 +31,14 @@ vector-field evaluations (new / old) at equal error, interpolated in
 log-log between the tolerances (work-precision at equal error);
 `--compare-wp OLD_wp_rust.csv NEW_wp_rust.csv` does the same for the
 adaptive DOPRI5 rows of two runs of scripts/work_precision.py (final error
-at T, evaluations and thread-CPU time), and runs nothing else.
+at T, evaluations and thread-CPU time), and runs nothing else;
+`--diagnose` runs nothing else either but reads the CSV (docs/data or
+--out) and, on the Kepler problems, prints framedyn against scipy at each
+tol (error / tol and evaluations), the error ratio at equal evaluations,
+and for one tol (`--diagnose-tol`, default 1e-10) the energy error after
+each pericentre passage, the steps through the passage and the rejections
+(why framedyn's DOP853 lands further from tol than scipy's in polar
+coordinates; docs/performance.md, "Kepler passages against scipy").
 
 Run it from the repository root with a Python that has numpy, scipy,
 matplotlib and a release build of framedyn (`pip install .`).
@@ -347,6 +354,92 @@ def compare_wp(old_path, new_path):
                   f"thread-CPU median {np.median(cpu):.2f} [{cpu.min():.2f}, {cpu.max():.2f}] ({len(q)} points)")
 
 
+def kepler_energy(kind, m, R, alpha, Y):
+    r, _ph, rd, phd = Y
+    th = r / R
+    s, c = (np.sinh(th), np.cosh(th)) if kind == "H2" else (np.sin(th), np.cos(th))
+    return 0.5 * m * (rd**2 + R * R * s * s * phd**2) - alpha / R * c / s
+
+
+def at_equal_work(points, evals):
+    """log-log interpolation of (evals, error) points at `evals` (None outside)."""
+    pts = sorted(points)
+    xs, ys = np.log([p[0] for p in pts]), np.log([p[1] for p in pts])
+    le = math.log(evals)
+    return math.exp(np.interp(le, xs, ys)) if xs[0] <= le <= xs[-1] else None
+
+
+def diagnose(csv_path, tol):
+    with open(csv_path) as f:
+        rows = list(csv.DictReader(f))
+    pairs = (("dop853", "DOP853"), ("dopri5", "RK45"))
+    print(f"from {csv_path}: framedyn against scipy in polar coordinates, error / tol (rhs evaluations)")
+    for name in ("s2_kepler_point", "h2_kepler_point", "h2_kepler_gyro"):
+        if PROBLEMS[name][4] is None:
+            print(f"  {name}: no scipy formulation in this script (the spin couples to the orbit), no head-to-head")
+            continue
+        for fm, sm in pairs:
+            fr = [r for r in rows if r["problem"] == name and r["solver"] == f"framedyn {fm}"]
+            for coords in ("polar", "embedding"):
+                sr = {r["tol"]: r for r in rows if r["problem"] == name and r["solver"] == f"scipy {sm} ({coords})"}
+                if not sr:
+                    continue
+                cells, worse, eq = [], 0, []
+                for r in fr:
+                    q = sr.get(r["tol"])
+                    if q is None:
+                        continue
+                    a, b = float(r["max_over_tol"]), float(q["max_over_tol"])
+                    worse += a > b
+                    cells.append(f"{float(r['tol']):.0e} {a:.0f}/{b:.0f}")
+                    e = at_equal_work([(float(x["rhs_evals"]), float(x["max_error"])) for x in sr.values()], float(r["rhs_evals"]))
+                    if e is not None:
+                        eq.append(float(r["max_error"]) / e)
+                eq_s = f"; error at equal evaluations framedyn / scipy {min(eq):.2g} – {max(eq):.2g} (median {np.median(eq):.2g})" if eq else ""
+                print(f"  {name} {fm} vs scipy {sm} ({coords}): further from tol at {worse} of {len(cells)} tols{eq_s}")
+                print("     " + " | ".join(cells))
+    print(f"\nat tol {tol:g}: energy error |E − E0| after each pericentre passage, steps through it, rejections")
+    for name in ("s2_kepler_point", "h2_kepler_point"):
+        kw, t_end, _h, _a, kind = PROBLEMS[name]
+        m, R, alpha = kw["body"].get("mass", 1.0), kw["manifold"]["radius"], kw["potential"]["alpha"]
+        rhs, _amb = kepler_polar(kind, m, R, alpha)
+        y0 = [kw["r"], kw["phi"], kw["r_dot"], kw["phi_dot"]]
+        dense = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=1e-13, atol=1e-13, dense_output=True)
+        tt = np.linspace(0.0, t_end, 80001)
+        rr = dense.sol(tt)[0]
+        peri = [tt[i] for i in range(1, len(tt) - 1) if rr[i] < rr[i - 1] and rr[i] <= rr[i + 1]]
+        r_min = rr.min()
+        # the passage: r < 3 r_min; the energy is read halfway to the next apocentre
+        after = [p + 0.5 * (peri[1] - peri[0] if len(peri) > 1 else 1.0) for p in peri]
+        after = [a for a in after if a < t_end]
+        print(f"  {name}: pericentres at t = {', '.join(f'{p:.3f}' for p in peri)} (r_min = {r_min:.3f} R); energy read at t = {', '.join(f'{a:.2f}' for a in after)}")
+        for fm, sm in pairs:
+            # every step saved: no dense output, so the evaluations compare with scipy's
+            sol = fd.solve(fd.Scene(**kw, t_end=t_end, every=1, max_steps=10**8, method=fm, rtol=tol, atol=tol))
+            t = np.asarray(sol.t)
+            x = sol.position
+            dist = np.arctan2(np.hypot(x[:, 0], x[:, 1]), x[:, 2]) if kind == "S2" else np.arccosh(np.maximum(x[:, 2], 1.0))
+            E = np.asarray(sol.energy)
+            fe = [abs(np.interp(a, t, E) - E[0]) for a in after]
+            h = np.diff(t)
+            inside = dist[:-1] < 3 * r_min
+            # steps and evaluations from a run without dense output (scipy's
+            # DOP853 spends 3 more evaluations per step on it), energies from one with
+            out = solve_ivp(rhs, (0.0, t_end), y0, method=sm, rtol=tol, atol=tol)
+            out2 = solve_ivp(rhs, (0.0, t_end), y0, method=sm, rtol=tol, atol=tol, dense_output=True)
+            se = np.abs(kepler_energy(kind, m, R, alpha, out2.sol(np.array(after))) - kepler_energy(kind, m, R, alpha, np.array(y0)))
+            st, sr_ = out.t, out.y[0]
+            sh = np.diff(st)
+            sin_ = sr_[:-1] < 3 * r_min
+            # attempts = (evaluations − 2 for the first step) / new evaluations per step (FSAL)
+            per = 12 if sm == "DOP853" else 6
+            s_rej = round((out.nfev - 2) / per) - (len(st) - 1)
+            print(f"    framedyn {fm}: energy error {', '.join(f'{v:.2e}' for v in fe)}; {int(inside.sum())} steps with r < 3 r_min, "
+                  f"smallest {h.min():.2e}; {sol.stats['steps']} steps, {sol.stats['rejected']} rejected, {sol.stats['rhs_evals']} evaluations")
+            print(f"    scipy {sm} (polar): energy error {', '.join(f'{v:.2e}' for v in se)}; {int(sin_.sum())} steps with r < 3 r_min, "
+                  f"smallest {sh.min():.2e}; {len(st) - 1} steps, about {s_rej} rejected, {out.nfev} evaluations")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="tol 1e-6, 1e-9, 1e-12 only")
@@ -356,7 +449,12 @@ def main():
     ap.add_argument("--no-chart", action="store_true")
     ap.add_argument("--no-estimate", action="store_true", help="do not ask for the global-error estimate (builds before it existed)")
     ap.add_argument("--compare-wp", nargs=2, metavar=("OLD", "NEW"), help="two wp_rust.csv of scripts/work_precision.py")
+    ap.add_argument("--diagnose", action="store_true", help="Kepler rows against scipy, from the CSV; runs nothing else")
+    ap.add_argument("--diagnose-tol", type=float, default=1e-10)
     args = ap.parse_args()
+    if args.diagnose:
+        diagnose(os.path.join(args.out, "tolerance_proportionality.csv"), args.diagnose_tol)
+        return 0
     if args.compare_wp:
         compare_wp(*args.compare_wp)
         return 0
