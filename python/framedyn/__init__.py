@@ -37,7 +37,7 @@ import numpy as np
 from . import _framedyn
 from ._errors import MAX_SAMPLES, MAX_THREADS, USIZE_MAX, FramedynError, IntegrationError, InternalError, InvalidInputError, OutputError, QualityWarning, check_int
 from ._scene import INITIAL_FIELDS, Scene, as_scenes
-from ._analysis import LyapunovResult, Section, lyapunov, sali, section
+from ._analysis import LyapunovResult, MegnoResult, Section, lyapunov, megno, sali, section
 from ._ensemble import EnsembleSolution, table_columns
 from ._solution import BatchSolution, EventRecords, Solution
 
@@ -55,8 +55,10 @@ __all__ = [
     "solve_batch",
     "lyapunov",
     "sali",
+    "megno",
     "section",
     "LyapunovResult",
+    "MegnoResult",
     "Section",
     "FramedynError",
     "InvalidInputError",

@@ -1,5 +1,5 @@
-"""Integrability, measured (issue 21): Lyapunov exponents and Poincaré
-sections of a scene, computed in the Rust core (``framedyn::analysis``) with
+"""Integrability, measured (issue 21): Lyapunov exponents, the chaos
+indicators SALI and MEGNO, and Poincaré sections of a scene, computed in the Rust core (``framedyn::analysis``) with
 the GIL released; results as numpy arrays."""
 
 from __future__ import annotations
@@ -43,6 +43,31 @@ class LyapunovResult:
     steps_per_step: int
     state_dimension: int
     two_trajectory: Optional[Dict[str, Any]]
+
+
+@dataclass(frozen=True)
+class MegnoResult:
+    """MEGNO of a scene's trajectory (:func:`megno`).
+
+    ``megno``: ``Y`` at the end of the run; ``mean``: its time average
+    ``⟨Y⟩`` there (→ 2 on a quasi-periodic orbit, → 0 on a stable
+    isochronous periodic one, ≈ λ₁t/2 on a chaotic one); ``slope``: the
+    least-squares slope of ``⟨Y⟩`` over the second half of the run (≈ λ₁/2
+    if chaotic, → 0 if regular); ``lyapunov``: the finite-time exponent
+    ``log(|δ(T)|/|δ(0)|)/T`` of the same tangent vector; ``times``,
+    ``running_megno``, ``running_mean``: ``Y`` and ``⟨Y⟩`` along the run
+    (every step, thinned to at most 10 000 and the last); ``steps``: fixed
+    steps taken; ``steps_per_step``: steps of the method per step."""
+
+    megno: float
+    mean: float
+    slope: float
+    lyapunov: float
+    times: np.ndarray
+    running_megno: np.ndarray
+    running_mean: np.ndarray
+    steps: int
+    steps_per_step: int
 
 
 @dataclass(frozen=True)
@@ -207,19 +232,48 @@ def section(
     return Section(name=raw["name"], columns=tuple(raw["columns"]), units=tuple(raw["units"]), data=raw["data"], rising=raw["rising"])
 
 
-def sali(scene: Union[Scene, Mapping[str, Any]], *, threshold: float = 1e-8, seed: int = 1) -> Dict[str, Any]:
+def sali(scene: Union[Scene, Mapping[str, Any]], *, threshold: float = 1e-8, seed: int = 1, eps: Optional[float] = None, fourth_order: bool = False) -> Dict[str, Any]:
     """The Smaller Alignment Index (Skokos 2001) of ``scene``'s trajectory: a
     fast chaos indicator for maps over initial conditions. Two tangent
     vectors are carried by the tangent map of each step (the scene's method
     and fixed step ``method.h``) and normalised; ``SALI = min(|u₁ + u₂|,
     |u₁ − u₂|)`` falls like ``exp(−(λ₁ − λ₂)t)`` on a chaotic orbit and stays
     away from 0 on a regular one. The run stops when SALI falls below
-    ``threshold``.
+    ``threshold``. ``eps`` and ``fourth_order``: the central differences of
+    the step map, as for :func:`lyapunov` (SALI has no floor set by them:
+    the difference ``u₁ − u₂`` is carried as a tangent vector of its own).
 
     Returns ``{"sali": final value, "chaotic_at": the time it fell below the
     threshold or None, "min": smallest value, "steps": steps taken}``.
-    Raises :class:`InvalidInputError` for a bad threshold or an unsuitable
-    scene, ``TypeError`` for arguments of the wrong type."""
+    Raises :class:`InvalidInputError` for a bad threshold or ``eps`` or an
+    unsuitable scene, ``TypeError`` for arguments of the wrong type."""
     s = _scene(scene)
-    value, at, low, steps = _framedyn.sali(s._native, _real(threshold, "threshold"), check_int(seed, "seed", 0, _U64_MAX))
+    if not isinstance(fourth_order, bool):
+        raise TypeError(f"invalid `fourth_order` = {fourth_order!r}: must be a bool")
+    value, at, low, steps = _framedyn.sali(
+        s._native, _real(threshold, "threshold"), check_int(seed, "seed", 0, _U64_MAX), None if eps is None else _real(eps, "eps"), fourth_order
+    )
     return {"sali": value, "chaotic_at": at, "min": low, "steps": steps}
+
+
+def megno(scene: Union[Scene, Mapping[str, Any]], *, seed: int = 1, eps: Optional[float] = None, fourth_order: bool = False) -> MegnoResult:
+    """MEGNO, the Mean Exponential Growth factor of Nearby Orbits (Cincotta &
+    Simó 2000), of ``scene``'s trajectory: a fast chaos indicator from one
+    tangent vector carried by the tangent map of each step (the scene's
+    method and fixed step ``method.h``, over its time span). Discrete form
+    (Cincotta, Giordano & Simó 2003): ``Y(t_N) = (2/t_N) Σ t_k log(|δ_k| /
+    |δ_{k−1}|)``, ``⟨Y⟩(t_N) = (1/t_N) Σ h Y(t_k)``.
+
+    ``seed``: of the random initial tangent vector; ``eps`` and
+    ``fourth_order``: the central differences of the step map, as for
+    :func:`lyapunov`.
+
+    Raises :class:`InvalidInputError` (a ``ValueError``) for a bad option or
+    a scene without a fixed step or with a coordinate method, ``TypeError``
+    for an argument of the wrong type, :class:`IntegrationError` when a step
+    fails; Ctrl-C raises ``KeyboardInterrupt``."""
+    s = _scene(scene)
+    if not isinstance(fourth_order, bool):
+        raise TypeError(f"invalid `fourth_order` = {fourth_order!r}: must be a bool")
+    raw = _framedyn.megno(s._native, check_int(seed, "seed", 0, _U64_MAX), None if eps is None else _real(eps, "eps"), fourth_order)
+    return MegnoResult(**raw)

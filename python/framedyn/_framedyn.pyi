@@ -18,6 +18,7 @@ __all__ = [
     "initial_fields",
     "lyapunov",
     "manifolds",
+    "megno",
     "methods",
     "run",
     "run_batch",
@@ -135,5 +136,8 @@ def lyapunov(
 def section(scene: Scene, spec_json: str) -> Dict[str, Any]:
     """Poincaré section: ``{"name", "columns", "units", "data", "rising"}``."""
 
-def sali(scene: Scene, threshold: float, seed: int) -> Tuple[float, Optional[float], float, int]:
+def sali(scene: Scene, threshold: float, seed: int, eps: Optional[float] = None, fourth_order: bool = False) -> Tuple[float, Optional[float], float, int]:
     """Smaller Alignment Index: ``(sali, chaotic_at, min, steps)``."""
+
+def megno(scene: Scene, seed: int, eps: Optional[float], fourth_order: bool) -> Dict[str, Any]:
+    """MEGNO: ``{"megno", "mean", "slope", "lyapunov", "times", "running_megno", "running_mean", "steps", "steps_per_step"}``."""

@@ -102,3 +102,66 @@ def test_sali_regular_and_chaotic_scenes():
         fd.sali(kepler, threshold=2.0)
     with pytest.raises(TypeError):
         fd.sali(kepler, threshold="small")
+
+
+# The S² gyroscope of the atlas's tilted map (docs/integrability.md): a chaotic orbit.
+TILTED_GYROSCOPE = """[manifold]
+kind = "S2"
+[body]
+kind = "gyroscope"
+mass = 1.0
+inertia = 0.3
+[potential]
+kind = "sum"
+[[potential.terms]]
+kind = "cosine"
+alpha_hat = 0.5
+beta_hat = -0.4
+[[potential.terms]]
+kind = "cosine"
+beta_hat = 0.6
+centre = [1.0, 0.0, 0.0]
+[initial]
+position = [-0.9781467351960749, 0.0, -0.20791576281095117]
+velocity = [-0.1975199746704036, 1.4358671622268089, 0.9292393984362711]
+spin = 0.6
+[method]
+name = "rk4"
+h = 0.01
+[time]
+t_end = 300.0
+"""
+
+
+def test_megno_regular_and_chaotic_scenes():
+    # Kepler (Bertrand, quasi-periodic): <Y> -> 2 (1.92 at T = 200, tests/suite/megno.rs).
+    d = fd.Scene.example("s2-point-kepler").to_dict()
+    d["time"]["t_end"] = 200.0
+    regular = fd.megno(fd.Scene.from_dict(d))
+    assert isinstance(regular, fd.MegnoResult)
+    assert abs(regular.mean - 2.0) < 0.1 and abs(regular.slope) < 0.005
+    assert regular.steps == 40000 and regular.steps_per_step == 3
+    assert regular.running_mean.shape == regular.times.shape == regular.running_megno.shape
+    assert regular.times[-1] == 200.0 and regular.running_mean[-1] == regular.mean
+    # Chaotic: <Y> = 16.9 at T = 300, twice its slope 0.083 (lambda_1 ~ 0.1).
+    tilted = fd.Scene.from_toml(TILTED_GYROSCOPE)
+    chaotic = fd.megno(tilted)
+    assert chaotic.mean > 10.0 and 2.0 * chaotic.slope > 0.05, (chaotic.mean, chaotic.slope)
+    # Fourth-order differences: the same indicator to 1e-6 (the linearisation's error, not the dynamics).
+    fourth = fd.megno(tilted, fourth_order=True)
+    assert fourth.steps_per_step == 5
+    assert abs(fourth.mean - chaotic.mean) < 1e-6 * chaotic.mean
+    kepler = fd.Scene.example("s2-point-kepler")
+    with pytest.raises(ValueError, match="eps"):
+        fd.megno(kepler, eps=0.5)
+    with pytest.raises(fd.InvalidInputError, match="seed"):
+        fd.megno(kepler, seed=-1)
+    with pytest.raises(TypeError):
+        fd.megno(kepler, fourth_order=1)
+    with pytest.raises(TypeError):
+        fd.megno(kepler, eps="small")
+    adaptive = kepler.to_dict()
+    adaptive["method"].update(name="dopri5", rtol=1e-8)
+    del adaptive["method"]["h"]
+    with pytest.raises(fd.InvalidInputError, match="method.h"):
+        fd.megno(fd.Scene.from_dict(adaptive))

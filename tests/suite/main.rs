@@ -19,6 +19,7 @@ mod integrators;
 mod internals;
 mod lyapunov;
 mod matrix_groups;
+mod megno;
 mod potentials;
 mod registry;
 mod scenes;

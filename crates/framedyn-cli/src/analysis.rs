@@ -5,6 +5,7 @@
 //! framedyn lyapunov SCENE [--exponents K|all] [--every N] [--transient T] [--batches B] [--seed S]
 //!                         [--eps E] [--fourth-order] [--two-trajectory] [--output RUNNING.csv]
 //! framedyn sali SCENE [--threshold X] [--seed S] [--eps E] [--fourth-order]
+//! framedyn megno SCENE [--seed S] [--eps E] [--fourth-order] [--output RUNNING.csv]
 //! framedyn section SCENE [--event NAME | --plane NX,NY,NZ[,NW] [--offset C] | --column NAME --value V]
 //!                        [--direction rising|falling|either] [--output SECTION.csv]
 //! ```
@@ -18,7 +19,11 @@
 //! from two nearby trajectories. `sali` carries two tangent vectors the
 //! same way and prints the Smaller Alignment Index (Skokos 2001) at the end,
 //! its minimum, and the time it fell below `--threshold` (the run stops
-//! there: "chaotic"), else "regular". `section` writes the crossings of a
+//! there: "chaotic"), else "regular". `megno` carries one tangent vector
+//! and prints MEGNO (Cincotta & Simó 2000) at the end, its mean `⟨Y⟩` (→ 2
+//! on a quasi-periodic orbit, ≈ λ₁t/2 on a chaotic one), twice the slope of
+//! `⟨Y⟩` over the second half (an estimate of λ₁) and the vector's
+//! finite-time exponent; `--output` writes `t,megno,mean`. `section` writes the crossings of a
 //! section — an `[[events]]` entry of the scene (`--event NAME`, or the
 //! scene's only one), or one given by the options — as CSV: header
 //! `rising,t,…` (every record column), one line per crossing.
@@ -38,7 +43,7 @@ use crate::{signals, target, EXIT_INTEGRATION, EXIT_INVALID, EXIT_IO};
 /// Exit code: bad command line.
 const EXIT_USAGE: u8 = 2;
 
-/// The tangent vectors' settings, shared by `lyapunov` and `sali`.
+/// The tangent vectors' settings, shared by `lyapunov`, `sali` and `megno`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct TangentArgs {
     /// Seed of the random initial tangent vectors.
@@ -206,6 +211,44 @@ pub fn sali(scene: &Scene, origin: &str, args: &SaliArgs) -> Result<(), (u8, Str
     match e.chaotic_at {
         Some(t) => println!("verdict:         chaotic (SALI < {:e} at t = {t:?})", opts.threshold),
         None => println!("verdict:         regular over T = {:?} (SALI stayed above {:e})", opts.duration, opts.threshold),
+    }
+    Ok(())
+}
+
+/// The settings of `framedyn megno` besides the scene.
+#[derive(Debug, Clone)]
+pub struct MegnoArgs {
+    /// Seed and linearisation of the tangent vector.
+    pub tangent: TangentArgs,
+    /// Where to write the running values.
+    pub output: Option<std::path::PathBuf>,
+}
+
+/// `framedyn megno`.
+pub fn megno(scene: &Scene, origin: &str, args: &MegnoArgs) -> Result<(), (u8, String)> {
+    let cancel = signals::arm();
+    let mut opts = scene.megno_options().map_err(|e| error(origin, e.into()))?;
+    opts.seed = args.tangent.seed;
+    opts.linearisation = args.tangent.linearisation();
+    let started = std::time::Instant::now();
+    let e = scene.megno(&opts, cancel).map_err(|e| error(origin, e))?;
+    let wall = started.elapsed().as_secs_f64();
+    if let Some(path) = &args.output {
+        let mut text = String::from("t,megno,mean\n");
+        for ((t, y), m) in e.times.iter().zip(&e.running_megno).zip(&e.running_mean) {
+            text.push_str(&format!("{t:?},{y:?},{m:?}\n"));
+        }
+        write_atomically(path, &text)?;
+    }
+    println!("scene:           {origin}");
+    println!("steps:           {} of h = {:?} ({} method steps each)", e.steps, opts.h, e.steps_per_step);
+    println!("wall time:       {wall:.3} s");
+    println!("megno:           {:.6} (Y at the end of the run)", e.megno);
+    println!("mean:            {:.6} (<Y>: 2 quasi-periodic, 0 stable periodic, ~lambda_1 t/2 chaotic)", e.mean);
+    println!("2 x slope:       {:.6} (of <Y> over the second half: lambda_1 if chaotic, ~0 if regular)", 2.0 * e.slope);
+    println!("lyapunov:        {:.6} (finite-time exponent of the same vector)", e.lyapunov);
+    if let Some(path) = &args.output {
+        println!("running values:  {}", path.display());
     }
     Ok(())
 }

@@ -9,6 +9,7 @@
 //! framedyn sweep SCENE --table members.csv|npz [--output results.npz] [--keep all|final] [--samples K] [--threads N] [--no-space-check]
 //! framedyn lyapunov SCENE [--exponents K|all] [--two-trajectory] [--output RUNNING.csv] …   # see [`analysis`]
 //! framedyn sali SCENE [--threshold X] [--seed S] [--eps E] [--fourth-order]                 # see [`analysis`]
+//! framedyn megno SCENE [--seed S] [--eps E] [--fourth-order] [--output RUNNING.csv]        # see [`analysis`]
 //! framedyn section SCENE [--event NAME | --plane N | --column NAME --value V] [--direction D] [--output SECTION.csv]
 //! ```
 //!
@@ -185,6 +186,16 @@ enum Command {
         threshold: f64,
         #[command(flatten)]
         tangent: analysis::TangentArgs,
+    },
+    /// MEGNO of a scene's trajectory: a fast chaos indicator from one tangent vector (its method and fixed step h).
+    Megno {
+        /// Scene file (.toml or .json) or embedded scene name.
+        scene: String,
+        #[command(flatten)]
+        tangent: analysis::TangentArgs,
+        /// Write the running values (t, megno, mean) to this CSV.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
     },
     /// Poincaré section of a scene's trajectory: its crossings of a plane, a column value or an [[events]] entry, as CSV.
     Section {
@@ -364,6 +375,10 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
         Command::Sali { scene, threshold, tangent } => {
             let (s, origin) = load(&scene)?;
             analysis::sali(&s, &origin, &analysis::SaliArgs { threshold, tangent })
+        }
+        Command::Megno { scene, tangent, output } => {
+            let (s, origin) = load(&scene)?;
+            analysis::megno(&s, &origin, &analysis::MegnoArgs { tangent, output })
         }
         Command::Section { scene, event, plane, offset, column, value, direction, output } => {
             let (s, origin) = load(&scene)?;

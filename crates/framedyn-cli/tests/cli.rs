@@ -844,6 +844,47 @@ fn sali_tells_chaotic_from_regular() {
     let _ = fs::remove_dir_all(&dir);
 }
 
+/// `megno` prints the library's `Scene::megno` values and writes the running
+/// `Y` and `⟨Y⟩`: the tilted gyroscope's `⟨Y⟩` far above 2 (chaotic, about
+/// λ₁t/2) and twice the slope of `⟨Y⟩` near its λ₁; bad settings exit 2
+/// naming the option, an adaptive scene exits 3 naming `method.h`.
+#[test]
+fn megno_prints_the_library_values_and_writes_the_running_values() {
+    let dir = tmpdir("megno");
+    let path = dir.join("tilted.toml");
+    fs::write(&path, TILTED_GYROSCOPE).unwrap();
+    let o = framedyn(&["megno", path.to_str().unwrap(), "-o", "megno.csv"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let scene = Scene::from_toml_str(TILTED_GYROSCOPE).unwrap();
+    let e = scene.megno(&scene.megno_options().unwrap(), &AtomicBool::new(false)).unwrap();
+    assert!(e.mean > 5.0 && e.slope > 0.02, "not chaotic: {e:?}");
+    let out = stdout(&o);
+    assert!(out.contains(&format!("mean:            {:.6} (<Y>", e.mean)), "{out}");
+    assert!(out.contains(&format!("2 x slope:       {:.6} ", 2.0 * e.slope)), "{out}");
+    let (header, rows) = read_csv(&dir.join("megno.csv"));
+    assert_eq!(header, ["t", "megno", "mean"]);
+    assert_eq!(rows.len(), e.times.len());
+    assert_eq!(rows.last().unwrap(), &vec![300.0, e.megno, e.mean]);
+
+    let adaptive = dir.join("adaptive.toml");
+    let mut s = example("s2-point-kepler").unwrap();
+    s.method.name = "dopri5".into();
+    s.method.h = None;
+    s.method.rtol = Some(1e-8);
+    fs::write(&adaptive, s.to_toml_string()).unwrap();
+    for (args, needle, exit) in [
+        (&["megno", "s2-point-kepler", "--eps", "1"][..], "invalid --eps = 1: must be finite, > 0 and ≤ 0.1", 2),
+        (&["megno", "s2-point-kepler", "--eps=-1e-5"][..], "invalid --eps = -0.00001", 2),
+        (&["megno", "s2-point-kepler", "--seed", "x"][..], "--seed", 2),
+        (&["megno", adaptive.to_str().unwrap()][..], "method.h", 3),
+    ] {
+        let o = framedyn(args, &dir);
+        assert_eq!(code(&o), exit, "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+    }
+    let _ = fs::remove_dir_all(&dir);
+}
+
 /// `section` writes the crossings as CSV (`rising` then every record column)
 /// at the crossed value.
 #[test]

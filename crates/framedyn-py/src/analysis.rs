@@ -1,4 +1,4 @@
-//! `lyapunov` and `section` (issue 21): the analyses of a scene, with the GIL
+//! `lyapunov`, `sali`, `megno` and `section` (issue 21): the analyses of a scene, with the GIL
 //! released and Ctrl-C honoured; results as numpy arrays.
 
 use framedyn::analysis::{AnalysisError, Linearisation};
@@ -130,14 +130,50 @@ pub fn section<'py>(py: Python<'py>, scene: &PyScene, spec_json: &str) -> PyResu
 /// The Smaller Alignment Index of a scene (see `framedyn.sali`):
 /// `(sali, chaotic_at, min, steps)`.
 #[pyfunction]
-#[pyo3(signature = (scene, threshold, seed))]
-pub fn sali(py: Python<'_>, scene: &PyScene, threshold: f64, seed: u64) -> PyResult<(f64, Option<f64>, f64, usize)> {
+#[pyo3(signature = (scene, threshold, seed, eps=None, fourth_order=false))]
+pub fn sali(py: Python<'_>, scene: &PyScene, threshold: f64, seed: u64, eps: Option<f64>, fourth_order: bool) -> PyResult<(f64, Option<f64>, f64, usize)> {
     let scene = scene.inner.clone();
     let e = run_interruptibly(py, move |cancel| {
         let mut opts = scene.sali_options()?;
         opts.threshold = threshold;
         opts.seed = seed;
-        Ok(scene.sali(&opts, cancel)?)
+        if fourth_order {
+            opts.linearisation = Linearisation::fourth_order();
+        }
+        if let Some(eps) = eps {
+            opts.linearisation.eps = eps;
+        }
+        scene.sali(&opts, cancel)
     })?;
     Ok((e.sali, e.chaotic_at, e.min, e.steps))
+}
+
+/// MEGNO of a scene (see `framedyn.megno`): a dict of its values and running
+/// arrays.
+#[pyfunction]
+#[pyo3(signature = (scene, seed, eps, fourth_order))]
+pub fn megno<'py>(py: Python<'py>, scene: &PyScene, seed: u64, eps: Option<f64>, fourth_order: bool) -> PyResult<Bound<'py, PyDict>> {
+    let scene = scene.inner.clone();
+    let e = run_interruptibly(py, move |cancel| {
+        let mut opts = scene.megno_options()?;
+        opts.seed = seed;
+        if fourth_order {
+            opts.linearisation = Linearisation::fourth_order();
+        }
+        if let Some(eps) = eps {
+            opts.linearisation.eps = eps;
+        }
+        scene.megno(&opts, cancel)
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("megno", e.megno)?;
+    d.set_item("mean", e.mean)?;
+    d.set_item("slope", e.slope)?;
+    d.set_item("lyapunov", e.lyapunov)?;
+    d.set_item("times", PyArray1::from_vec(py, e.times))?;
+    d.set_item("running_megno", PyArray1::from_vec(py, e.running_megno))?;
+    d.set_item("running_mean", PyArray1::from_vec(py, e.running_mean))?;
+    d.set_item("steps", e.steps)?;
+    d.set_item("steps_per_step", e.steps_per_step)?;
+    Ok(d)
 }

@@ -169,7 +169,7 @@ pub const MAX_HISTORY: usize = 10_000;
 
 /// Every how many re-orthonormalisations a running estimate is recorded,
 /// for `n` steps re-orthonormalised every `every`.
-fn history_stride(n: usize, every: usize) -> usize {
+pub(crate) fn history_stride(n: usize, every: usize) -> usize {
     (n / every).div_ceil(MAX_HISTORY).max(1)
 }
 

@@ -42,7 +42,8 @@
 //! from the separation of two nearby trajectories, renormalised to `d₀`
 //! (Benettin, Galgani, Strelcyn 1976) — independent of the tangent code.
 //! [`sali()`]: the Smaller Alignment Index (Skokos 2001), a fast chaos
-//! indicator from two tangent vectors.
+//! indicator from two tangent vectors. [`megno()`]: the Mean Exponential
+//! Growth factor of Nearby Orbits (Cincotta & Simó 2000) from one.
 //!
 //! The metric on tangent vectors is the Euclidean one of the algebra
 //! coordinates; exponents do not depend on it. The states of the frame-bundle
@@ -53,11 +54,13 @@
 
 mod error;
 pub mod lyapunov;
+pub mod megno;
 pub mod sali;
 pub mod tangent;
 
 pub use error::AnalysisError;
 pub use lyapunov::{lyapunov_spectrum, two_trajectory, LyapunovEstimate, LyapunovOptions, TwoTrajectoryEstimate, TwoTrajectoryOptions};
+pub use megno::{megno, MegnoEstimate, MegnoOptions};
 pub use sali::{sali, SaliEstimate, SaliOptions};
 pub use tangent::{flow_derivative, Difference, Linearisation, TangentFlow};
 

@@ -8,7 +8,7 @@ use super::chart::ChartTwin;
 use super::error::SceneError;
 use super::observe::Observe;
 use super::scene::Scene;
-use crate::analysis::{lyapunov_spectrum, sali, two_trajectory, AnalysisError, LyapunovEstimate, LyapunovOptions, SaliEstimate, SaliOptions, TwoTrajectoryEstimate, TwoTrajectoryOptions};
+use crate::analysis::{lyapunov_spectrum, megno, sali, two_trajectory, AnalysisError, LyapunovEstimate, LyapunovOptions, MegnoEstimate, MegnoOptions, SaliEstimate, SaliOptions, TwoTrajectoryEstimate, TwoTrajectoryOptions};
 use crate::lie::LieGroup;
 use crate::method::registry::{AnyMethod, Built, Needs};
 use crate::solve::{SolveError, StepSize};
@@ -20,6 +20,7 @@ pub(crate) trait DynAnalysis: Send {
     fn lyapunov(&self, method: &AnyMethod, t0: f64, opts: &LyapunovOptions, cancel: &AtomicBool) -> Result<LyapunovEstimate, AnalysisError>;
     fn two_trajectory(&self, method: &AnyMethod, t0: f64, opts: &TwoTrajectoryOptions, cancel: &AtomicBool) -> Result<TwoTrajectoryEstimate, AnalysisError>;
     fn sali(&self, method: &AnyMethod, t0: f64, opts: &SaliOptions, cancel: &AtomicBool) -> Result<SaliEstimate, AnalysisError>;
+    fn megno(&self, method: &AnyMethod, t0: f64, opts: &MegnoOptions, cancel: &AtomicBool) -> Result<MegnoEstimate, AnalysisError>;
 }
 
 struct Typed<S: Observe> {
@@ -46,6 +47,9 @@ impl<S: Observe> DynAnalysis for Typed<S> {
     }
     fn sali(&self, method: &AnyMethod, t0: f64, opts: &SaliOptions, cancel: &AtomicBool) -> Result<SaliEstimate, AnalysisError> {
         sali(&self.system, method, t0, &self.y0, opts, Some(cancel))
+    }
+    fn megno(&self, method: &AnyMethod, t0: f64, opts: &MegnoOptions, cancel: &AtomicBool) -> Result<MegnoEstimate, AnalysisError> {
+        megno(&self.system, method, t0, &self.y0, opts, Some(cancel))
     }
 }
 
@@ -149,6 +153,20 @@ impl Scene {
     pub fn sali(&self, opts: &SaliOptions, cancel: &AtomicBool) -> Result<SaliEstimate, SceneAnalysisError> {
         let p = self.prepare_analysis()?;
         Ok(p.model.sali(&p.method, p.t0, opts, cancel)?)
+    }
+
+    /// [`MegnoOptions`] with the scene's fixed step and time span.
+    pub fn megno_options(&self) -> Result<MegnoOptions, SceneError> {
+        let p = self.prepare_analysis()?;
+        Ok(MegnoOptions::new(p.h, p.duration))
+    }
+
+    /// MEGNO of the scene's trajectory ([`megno()`]): a fast chaos
+    /// indicator from one tangent vector, `⟨Y⟩ → 2` on a quasi-periodic
+    /// orbit, growing like `λ₁t/2` on a chaotic one.
+    pub fn megno(&self, opts: &MegnoOptions, cancel: &AtomicBool) -> Result<MegnoEstimate, SceneAnalysisError> {
+        let p = self.prepare_analysis()?;
+        Ok(p.model.megno(&p.method, p.t0, opts, cancel)?)
     }
 
     /// The two-trajectory estimate of the maximal exponent ([`two_trajectory`]).
