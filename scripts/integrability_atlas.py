@@ -23,8 +23,10 @@ plane x₁ = 0 (angle θ along the great circle, velocity v_θ along it), in
 the separable α̂cos² + β̂cos potential and with a tilt ε⟨x, e₀⟩ added.
 A point is "chaotic" when SALI fell below 1e-6 within T, "regular" when
 it ended at or above 1e-4, else "undecided". The floor check: the smallest
-SALI that chaotic orbits reach with no threshold (a floor, most likely
-the finite-difference tangent map's). The sections: fd.section of the plane x₁ = 0
+SALI that chaotic orbits reach with no threshold, for two perturbations ε
+and both difference formulas (until 145caef SALI stopped at a floor
+proportional to 1/ε there; --floor-scenes DIR writes these orbits as scene
+files for `framedyn sali`). The sections: fd.section of the plane x₁ = 0
 for several orbits at equal energy of the point on S² (Kepler, oscillator,
 V = r²/2) and of the gyroscope (separable, tilted).
 
@@ -37,6 +39,8 @@ the tables as Markdown (docs/integrability.md quotes them). Run:
     .venv/bin/python scripts/integrability_atlas.py --maps-only   # maps, sections, floor
     .venv/bin/python scripts/integrability_atlas.py --table-only  # table and cost
     .venv/bin/python scripts/integrability_atlas.py --quick       # small grids, into out/integrability_quick/
+    .venv/bin/python scripts/integrability_atlas.py --floor-only  # the SALI floor check only
+    .venv/bin/python scripts/integrability_atlas.py --floor-scenes DIR  # its orbits as scenes (JSON)
 """
 
 import argparse
@@ -224,7 +228,7 @@ def table(data):
 
 # ---------------------------------------------------------------- maps
 
-MAP_THRESHOLD = 1e-6  # SALI below this: chaotic (about two decades above the floors of sali_floor)
+MAP_THRESHOLD = 1e-6  # SALI below this: chaotic (chosen two decades above the floor SALI had until 145caef; the maps were computed then)
 REGULAR_ABOVE = 1e-4  # final SALI at or above this: regular; in between: undecided
 
 # The affine body of the atlas: ρ = 1 + a·D, ρ̇ = s·Ṙ (a = s = 1: the atlas's
@@ -444,24 +448,40 @@ def plot_map(model, variants, ps, qs, rows, names, summary, figures):
     plt.close(fig)
 
 
-def sali_floor(quick):
-    """The smallest SALI chaotic orbits reach with no threshold: a floor,
-    most likely the finite-difference tangent map's (it sets the map
-    threshold)."""
-    t_end = 300.0 if quick else 1000.0
-    cases = [
-        ("S² gyroscope, tilted, θ = −3.0, v_θ = 0", 0.005, lambda h: gyro_scene(GYRO_EPS, -3.0, 0.0, t_end, h)),
-        ("S² gyroscope, tilted, θ = −3.0, v_θ = 0", 0.01, lambda h: gyro_scene(GYRO_EPS, -3.0, 0.0, t_end, h)),
-        ("S² gyroscope, tilted, θ = −3.0, v_θ = 0", 0.02, lambda h: gyro_scene(GYRO_EPS, -3.0, 0.0, t_end, h)),
-        ("S² affine body, general J, a = 1, s = 1", 0.005, lambda h: affine_scene(1.0, 1.0, True, t_end, h)),
-        ("S² affine body, general J, a = 1, s = 1", 0.002, lambda h: affine_scene(1.0, 1.0, True, t_end, h)),
+def floor_cases(t_end):
+    """The chaotic orbits of the floor check: (file stem, name, h, scene)."""
+    return [
+        ("gyro_h0.005", "S² gyroscope, tilted, θ = −3.0, v_θ = 0", 0.005, gyro_scene(GYRO_EPS, -3.0, 0.0, t_end, 0.005)),
+        ("gyro_h0.01", "S² gyroscope, tilted, θ = −3.0, v_θ = 0", 0.01, gyro_scene(GYRO_EPS, -3.0, 0.0, t_end, 0.01)),
+        ("gyro_h0.02", "S² gyroscope, tilted, θ = −3.0, v_θ = 0", 0.02, gyro_scene(GYRO_EPS, -3.0, 0.0, t_end, 0.02)),
+        ("affine_h0.005", "S² affine body, general J, a = 1, s = 1", 0.005, affine_scene(1.0, 1.0, True, t_end, 0.005)),
+        ("affine_h0.002", "S² affine body, general J, a = 1, s = 1", 0.002, affine_scene(1.0, 1.0, True, t_end, 0.002)),
     ]
+
+
+# The linearisations of the floor check: (difference formula, ε).
+FLOOR_LINEARISATIONS = [("central2", 1e-5), ("central2", 1e-3), ("central4", 1e-3)]
+
+
+def sali_floor(quick):
+    """The smallest SALI chaotic orbits reach with no threshold, for each
+    linearisation: no floor (until 145caef there was one, proportional to
+    1/ε: docs/integrability.md)."""
+    t_end = 300.0 if quick else 1000.0
     rows = []
-    for name, h, make in cases:
-        r = fd.sali(make(h), threshold=1e-300)
-        rows.append({"case": name, "h": h, "T": t_end, "sali_min": r["min"], "sali_end": r["sali"], "below_1e-8": r["min"] < 1e-8})
-        print(f"floor {name} h = {h}: min {r['min']:.2e}", file=sys.stderr)
+    for _, name, h, s in floor_cases(t_end):
+        for formula, eps in FLOOR_LINEARISATIONS:
+            r = fd.sali(s, threshold=1e-300, eps=eps, fourth_order=formula == "central4")
+            rows.append({"case": name, "h": h, "T": t_end, "difference": formula, "eps": eps, "sali_min": r["min"], "sali_end": r["sali"], "below_1e-8": r["min"] < 1e-8})
+            print(f"floor {name} h = {h} {formula} eps = {eps:g}: min {r['min']:.2e}", file=sys.stderr)
     return rows
+
+
+def print_floor(floor):
+    print("| SALI floor: case | h | T | difference, ε | smallest SALI (no threshold) | SALI at T |")
+    print("|---|---|---|---|---|---|")
+    for r in floor:
+        print(f"| {r['case']} | {r['h']:g} | {r['T']:g} | {r['difference']}, {r['eps']:g} | {r['sali_min']:.1e} | {r['sali_end']:.1e} |")
 
 
 # Sections of the point on S² at equal energy: (scene, V(r), energy).
@@ -602,10 +622,7 @@ def print_maps(summary, drift, floor, sec_rows, kepler):
     if drift is not None:
         print(f"\naffine map corner (a = 1.375, s = 3) relative energy drift over T: general J {drift[0]:.1e}, isotropic J {drift[1]:.1e}")
     print()
-    print("| SALI floor: case | h | T | smallest SALI (no threshold) | SALI at T |")
-    print("|---|---|---|---|---|")
-    for r in floor:
-        print(f"| {r['case']} | {r['h']:g} | {r['T']:g} | {r['sali_min']:.1e} | {r['sali_end']:.1e} |")
+    print_floor(floor)
     print()
     print("most eccentric Kepler orbit of the section, spread of r over its crossings: " + ", ".join(f"{r['spread_r']:.1e} at h = {r['h']:g}" for r in kepler))
     print()
@@ -627,6 +644,8 @@ def main():
     ap.add_argument("--quick", action="store_true", help="small grids and short runs, written to out/integrability_quick/")
     ap.add_argument("--maps-only", action="store_true", help="maps, sections and the SALI floor only (not the table and cost)")
     ap.add_argument("--table-only", action="store_true", help="the table and cost only (not the maps)")
+    ap.add_argument("--floor-only", action="store_true", help="the SALI floor check only")
+    ap.add_argument("--floor-scenes", metavar="DIR", help="write the floor check's orbits as scene files (JSON) into DIR and stop")
     ap.add_argument("--workers", type=int, default=2, help="worker processes for the maps (1 or 2)")
     args = ap.parse_args()
     workers = max(1, min(2, args.workers))
@@ -635,6 +654,18 @@ def main():
         data = figures = os.path.join(ROOT, "out", "integrability_quick")
         os.makedirs(data, exist_ok=True)
     t0 = time.perf_counter()
+    if args.floor_scenes:
+        os.makedirs(args.floor_scenes, exist_ok=True)
+        for stem, _, _, s in floor_cases(300.0 if args.quick else 1000.0):
+            with open(os.path.join(args.floor_scenes, stem + ".json"), "w") as f:
+                f.write(s.to_json())
+        return
+    if args.floor_only:
+        floor = sali_floor(args.quick)
+        write(os.path.join(data, "integrability_sali_floor.csv"), floor)
+        print_floor(floor)
+        print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
+        return
     if not args.maps_only:
         table(data)
     if not args.table_only:
