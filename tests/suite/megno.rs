@@ -71,3 +71,109 @@ fn bad_megno_options_are_refused() {
     let stop = AtomicBool::new(true);
     assert!(matches!(megno(&sys, &m, 0.0, &y0, &MegnoOptions::new(0.01, 1.0), Some(&stop)), Err(AnalysisError::Cancelled { .. })));
 }
+
+/// The Kepler scene with a table of five members: two regular orbits, an
+/// invalid member (negative step) in the middle, a radial fall into the
+/// centre of the potential, and a member at another step.
+fn kepler_table() -> (framedyn::scenes::Scene, framedyn::scenes::Table) {
+    let mut base = framedyn::scenes::example("s2-point-kepler").unwrap();
+    base.time.t_end = 5.0;
+    let table = framedyn::scenes::Table::new([
+        ("initial.r", vec![0.8, 0.6, 0.7, 0.3, 0.9]),
+        ("initial.phi_dot", vec![1.3, 1.5, 1.3, 0.0, 1.2]),
+        ("method.h", vec![0.005, 0.005, -0.01, 0.005, 0.01]),
+    ])
+    .unwrap();
+    (base, table)
+}
+
+/// `chaos_map` gives every member exactly (bit for bit) the SALI and MEGNO
+/// values of `Scene::sali` and `Scene::megno` on that member's scene alone,
+/// with the same threshold, seed and linearisation, serially and on two
+/// threads; a member whose scene is invalid (negative `method.h`) or whose
+/// run fails gets its status, its message and NaN in the failed
+/// indicator's columns, and the members after it are computed as if it
+/// were not there.
+#[test]
+fn chaos_map_equals_single_calls_member_for_member() {
+    use framedyn::analysis::{chaos_map, ChaosMapOptions};
+    use framedyn::scenes::MemberStatus;
+    let (base, table) = kepler_table();
+    let no = AtomicBool::new(false);
+    let opts = ChaosMapOptions { threshold: 1e-3, seed: 7, threads: Some(2), ..ChaosMapOptions::default() };
+    let map = chaos_map(&base, &table, &opts, &no).unwrap();
+    let serial = chaos_map(&base, &table, &ChaosMapOptions { threads: Some(1), ..opts }, &no).unwrap();
+    assert_eq!(format!("{map:?}"), format!("{serial:?}"), "two threads and one differ");
+    assert_eq!(map.len(), 5);
+    let bits = |v: f64| v.to_bits();
+    for i in 0..map.len() {
+        let scene = table.member(&base, i).unwrap();
+        println!("member {i}: {:?} sali {:e} min {:e} <Y> {:.4} λ {:.4} {:?}", map.status[i], map.sali[i], map.sali_min[i], map.megno_mean[i], map.lyapunov[i], map.errors[i]);
+        let s = scene.sali_options().map_err(framedyn::scenes::SceneAnalysisError::from).and_then(|mut o| {
+            o.threshold = 1e-3;
+            o.seed = 7;
+            scene.sali(&o, &no)
+        });
+        let m = scene.megno_options().map_err(framedyn::scenes::SceneAnalysisError::from).and_then(|mut o| {
+            o.seed = 7;
+            scene.megno(&o, &no)
+        });
+        // Each indicator as alone: its values bit for bit, or NaN and the
+        // message of the single call's error (the first failure's).
+        match &s {
+            Ok(s) => {
+                assert_eq!(
+                    [map.sali[i], map.sali_min[i], map.chaotic_at[i]].map(bits),
+                    [s.sali, s.min, s.chaotic_at.unwrap_or(f64::NAN)].map(bits),
+                    "member {i}: SALI"
+                );
+                assert_eq!(map.sali_steps[i], s.steps as u64);
+            }
+            Err(_) => assert!(map.sali[i].is_nan() && map.sali_min[i].is_nan() && map.chaotic_at[i].is_nan() && map.sali_steps[i] == 0, "member {i}"),
+        }
+        match &m {
+            Ok(m) => {
+                assert_eq!([map.megno[i], map.megno_mean[i], map.megno_slope[i], map.lyapunov[i]].map(bits), [m.megno, m.mean, m.slope, m.lyapunov].map(bits), "member {i}: MEGNO");
+                assert_eq!(map.megno_steps[i], m.steps as u64);
+            }
+            Err(_) => assert!(map.megno[i].is_nan() && map.megno_mean[i].is_nan() && map.lyapunov[i].is_nan() && map.megno_steps[i] == 0, "member {i}"),
+        }
+        match (&s, &m) {
+            (Ok(_), Ok(_)) => assert_eq!((map.status[i], &map.errors[i]), (MemberStatus::Finished, &None), "member {i}"),
+            (Err(e), _) | (Ok(_), Err(e)) => {
+                let what = if s.is_err() { "sali" } else { "megno" };
+                assert_eq!(map.errors[i].as_deref(), Some(format!("member {i}: {what}: {e}").as_str()));
+                assert_ne!(map.status[i], MemberStatus::Finished, "member {i}");
+            }
+        }
+    }
+    assert_eq!(map.status[2], MemberStatus::Invalid);
+    assert!(map.errors[2].as_deref().unwrap().contains("method.h"), "{:?}", map.errors[2]);
+    // The radial fall: SALI falls below the threshold before the fall
+    // breaks the step; MEGNO runs on and fails there.
+    assert_eq!(map.status[3], MemberStatus::Failed);
+    assert!(map.chaotic_at[3].is_finite() && map.megno_mean[3].is_nan());
+    assert_eq!([map.status[0], map.status[1], map.status[4]], [MemberStatus::Finished; 3]);
+}
+
+/// Bad map options are typed errors naming the option; a set cancel flag
+/// leaves every member cancelled, with NaN.
+#[test]
+fn chaos_map_refuses_bad_options_and_honours_cancel() {
+    use framedyn::analysis::{chaos_map, ChaosMapOptions};
+    use framedyn::scenes::MemberStatus;
+    let (base, table) = kepler_table();
+    let no = AtomicBool::new(false);
+    let field = |o: ChaosMapOptions| match chaos_map(&base, &table, &o, &no).unwrap_err() {
+        AnalysisError::InvalidParameter { field, allowed, .. } => (field, allowed),
+        other => panic!("not an invalid parameter: {other}"),
+    };
+    let d = ChaosMapOptions::default();
+    assert_eq!(field(ChaosMapOptions { sali: false, megno: false, ..d }), ("indicators", "at least one of sali and megno".to_string()));
+    assert_eq!(field(ChaosMapOptions { threshold: 1.0, ..d }), ("threshold", "between 0 and 1 (exclusive)".to_string()));
+    assert_eq!(field(ChaosMapOptions { threads: Some(0), ..d }), ("threads", "between 1 and 1024".to_string()));
+    assert_eq!(field(ChaosMapOptions { linearisation: Linearisation { eps: 0.5, ..Linearisation::default() }, ..d }).0, "eps");
+    let map = chaos_map(&base, &table, &d, &AtomicBool::new(true)).unwrap();
+    assert!(map.status.iter().all(|s| *s == MemberStatus::Cancelled), "{:?}", map.status);
+    assert!(map.sali.iter().chain(&map.megno_mean).all(|v| v.is_nan()));
+}

@@ -44,6 +44,8 @@
 //! [`sali()`]: the Smaller Alignment Index (Skokos 2001), a fast chaos
 //! indicator from two tangent vectors. [`megno()`]: the Mean Exponential
 //! Growth factor of Nearby Orbits (Cincotta & Simó 2000) from one.
+//! [`chaos_map`]: SALI and MEGNO of every member of an ensemble table, in
+//! parallel, as columns (maps over initial conditions).
 //!
 //! The metric on tangent vectors is the Euclidean one of the algebra
 //! coordinates; exponents do not depend on it. The states of the frame-bundle
@@ -54,12 +56,14 @@
 
 mod error;
 pub mod lyapunov;
+pub mod map;
 pub mod megno;
 pub mod sali;
 pub mod tangent;
 
 pub use error::AnalysisError;
 pub use lyapunov::{lyapunov_spectrum, two_trajectory, LyapunovEstimate, LyapunovOptions, TwoTrajectoryEstimate, TwoTrajectoryOptions};
+pub use map::{chaos_map, ChaosMap, ChaosMapOptions};
 pub use megno::{megno, MegnoEstimate, MegnoOptions};
 pub use sali::{sali, SaliEstimate, SaliOptions};
 pub use tangent::{flow_derivative, Difference, Linearisation, TangentFlow};
