@@ -1,6 +1,8 @@
 """Integrability, measured (issue 21): Lyapunov exponents, the chaos
-indicators SALI and MEGNO, and Poincaré sections of a scene, computed in the Rust core (``framedyn::analysis``) with
-the GIL released; results as numpy arrays."""
+indicators SALI and MEGNO (of one scene, or mapped over a table of
+initial conditions), and Poincaré sections of a scene, computed in the Rust
+core (``framedyn::analysis``) with the GIL released; results as numpy
+arrays."""
 
 from __future__ import annotations
 
@@ -12,7 +14,8 @@ from typing import Any, Dict, Mapping, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from . import _framedyn
-from ._errors import InvalidInputError, check_int
+from ._ensemble import table_columns
+from ._errors import MAX_THREADS, InvalidInputError, check_int
 from ._scene import Scene
 
 _U64_MAX = 2**64 - 1
@@ -68,6 +71,49 @@ class MegnoResult:
     running_mean: np.ndarray
     steps: int
     steps_per_step: int
+
+
+@dataclass(frozen=True)
+class ChaosMap:
+    """SALI and MEGNO of every member of a table (:func:`chaos_map`): one
+    ``(N,)`` array per quantity, index ``i`` the table's member ``i``.
+
+    SALI (with ``sali=True``): ``sali`` at the end of the run, ``sali_min``
+    its smallest value, ``chaotic_at`` the time it fell below the threshold
+    (the run stops there; NaN if it did not), ``sali_steps``. MEGNO (with
+    ``megno=True``): ``megno`` (``Y`` at the end), ``megno_mean`` (``⟨Y⟩``:
+    → 2 regular, ≈ λ₁t/2 chaotic), ``megno_slope`` (of ``⟨Y⟩`` over the
+    second half, ≈ λ₁/2 chaotic), ``lyapunov`` (the finite-time maximal
+    exponent of MEGNO's tangent vector), ``megno_steps``. Columns of an
+    indicator not asked for, or that failed on a member, hold NaN (steps 0).
+
+    ``status``: per member ``'finished'``, ``'invalid'`` (its scene cannot
+    be analysed: not run), ``'failed'`` (an indicator's run failed: the
+    other's values are kept) or ``'cancelled'``; ``status_codes`` the
+    index in ``status_names`` (the codes of :class:`EnsembleSolution`);
+    ``errors``: per member the message (``None`` if finished)."""
+
+    sali: np.ndarray
+    sali_min: np.ndarray
+    chaotic_at: np.ndarray
+    sali_steps: np.ndarray
+    megno: np.ndarray
+    megno_mean: np.ndarray
+    megno_slope: np.ndarray
+    lyapunov: np.ndarray
+    megno_steps: np.ndarray
+    status: np.ndarray
+    status_codes: np.ndarray
+    status_names: Tuple[str, ...]
+    errors: Tuple[Optional[str], ...]
+
+    def __len__(self) -> int:
+        return int(self.status.shape[0])
+
+    @property
+    def ok(self) -> np.ndarray:
+        """Per member: finished (every indicator asked for computed)."""
+        return self.status == "finished"
 
 
 @dataclass(frozen=True)
@@ -277,3 +323,77 @@ def megno(scene: Union[Scene, Mapping[str, Any]], *, seed: int = 1, eps: Optiona
         raise TypeError(f"invalid `fourth_order` = {fourth_order!r}: must be a bool")
     raw = _framedyn.megno(s._native, check_int(seed, "seed", 0, _U64_MAX), None if eps is None else _real(eps, "eps"), fourth_order)
     return MegnoResult(**raw)
+
+
+def chaos_map(
+    scene: Union[Scene, Mapping[str, Any]],
+    table: Any,
+    *,
+    sali: bool = True,
+    megno: bool = True,
+    threshold: float = 1e-8,
+    seed: int = 1,
+    eps: Optional[float] = None,
+    fourth_order: bool = False,
+    threads: Optional[int] = None,
+    oversubscribe: bool = False,
+) -> ChaosMap:
+    """SALI and/or MEGNO over initial conditions: every member of ``table``
+    on ``scene``, in parallel (Rust threads, GIL released), returned as
+    columns (:class:`ChaosMap`) — no Python object per member::
+
+        m = fd.chaos_map(scene, {"initial.r": r, "initial.phi_dot": w}, threshold=1e-8)
+        m.chaotic_at, m.megno_mean, m.lyapunov, m.status
+
+    ``table``: the member table of :func:`solve_batch` — a dict of dotted
+    scene fields (``initial.position.0``, ``body.J.0.1``, ``method.h``, …)
+    to 1-D arrays of equal length N, or a pandas / polars DataFrame. Each
+    member is the scene with its row applied, and its values are exactly
+    (bit for bit) those of :func:`sali` and :func:`megno` on that scene
+    alone with the same ``threshold``, ``seed``, ``eps`` and
+    ``fourth_order``: its method, fixed step ``method.h`` and time span.
+    ``sali``, ``megno``: which indicators (at least one). ``threads``:
+    worker threads (default one per core; never more than the members, nor
+    than the cores unless ``oversubscribe=True``).
+
+    A member whose scene is invalid or whose run fails is reported in
+    ``status``/``errors`` with NaN in the failed indicator's columns; the
+    others are not affected. Raises :class:`InvalidInputError` for a bad
+    option or table (naming the field or column), ``TypeError`` for an
+    argument of the wrong type; Ctrl-C stops the running members and raises
+    ``KeyboardInterrupt``."""
+    s = _scene(scene)
+    for flag, name in ((sali, "sali"), (megno, "megno"), (fourth_order, "fourth_order"), (oversubscribe, "oversubscribe")):
+        if not isinstance(flag, bool):
+            raise TypeError(f"invalid `{name}` = {flag!r}: must be a bool")
+    names, cols = table_columns(table)
+    raw = _framedyn.chaos_map(
+        s._native,
+        names,
+        cols,
+        sali,
+        megno,
+        _real(threshold, "threshold"),
+        check_int(seed, "seed", 0, _U64_MAX),
+        None if eps is None else _real(eps, "eps"),
+        fourth_order,
+        check_int(threads, "threads", 1, MAX_THREADS, optional=True),
+        oversubscribe,
+    )
+    status_names = tuple(raw["status_names"])
+    codes = np.asarray(raw["status"], dtype=np.uint8)
+    return ChaosMap(
+        sali=raw["sali"],
+        sali_min=raw["sali_min"],
+        chaotic_at=raw["chaotic_at"],
+        sali_steps=raw["sali_steps"],
+        megno=raw["megno"],
+        megno_mean=raw["megno_mean"],
+        megno_slope=raw["megno_slope"],
+        lyapunov=raw["lyapunov"],
+        megno_steps=raw["megno_steps"],
+        status=np.array(status_names)[codes],
+        status_codes=codes,
+        status_names=status_names,
+        errors=tuple(raw["errors"]),
+    )

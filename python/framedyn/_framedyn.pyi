@@ -14,6 +14,7 @@ __all__ = [
     "Stepper",
     "__version__",
     "_raise_for_test",
+    "chaos_map",
     "cli_main",
     "initial_fields",
     "lyapunov",
@@ -141,3 +142,18 @@ def sali(scene: Scene, threshold: float, seed: int, eps: Optional[float] = None,
 
 def megno(scene: Scene, seed: int, eps: Optional[float], fourth_order: bool) -> Dict[str, Any]:
     """MEGNO: ``{"megno", "mean", "slope", "lyapunov", "times", "running_megno", "running_mean", "steps", "steps_per_step"}``."""
+
+def chaos_map(
+    scene: Scene,
+    names: List[str],
+    columns: List[Any],
+    sali: bool,
+    megno: bool,
+    threshold: float,
+    seed: int,
+    eps: Optional[float],
+    fourth_order: bool,
+    threads: Optional[int],
+    oversubscribe: bool,
+) -> Dict[str, Any]:
+    """SALI and MEGNO of every member of a table: ``{"sali", "sali_min", "chaotic_at", "sali_steps", "megno", "megno_mean", "megno_slope", "lyapunov", "megno_steps", "status", "status_names", "errors"}``."""

@@ -165,3 +165,76 @@ def test_megno_regular_and_chaotic_scenes():
     del adaptive["method"]["h"]
     with pytest.raises(fd.InvalidInputError, match="method.h"):
         fd.megno(fd.Scene.from_dict(adaptive))
+
+
+def _kepler_map_table():
+    # Two regular orbits, an invalid member (negative step) in the middle, a
+    # radial fall into the centre (SALI falls below the threshold, MEGNO's
+    # run then fails), and a member at another step.
+    return {
+        "initial.r": np.array([0.8, 0.6, 0.7, 0.3, 0.9]),
+        "initial.phi_dot": np.array([1.3, 1.5, 1.3, 0.0, 1.2]),
+        "method.h": np.array([0.005, 0.005, -0.01, 0.005, 0.01]),
+    }
+
+
+def test_chaos_map_equals_single_calls_bit_for_bit():
+    d = fd.Scene.example("s2-point-kepler").to_dict()
+    d["time"]["t_end"] = 5.0
+    base = fd.Scene.from_dict(d)
+    table = _kepler_map_table()
+    m = fd.chaos_map(base, table, threshold=1e-3, seed=7, threads=2)
+    assert isinstance(m, fd.ChaosMap) and len(m) == 5
+    for col in (m.sali, m.sali_min, m.chaotic_at, m.megno, m.megno_mean, m.megno_slope, m.lyapunov):
+        assert isinstance(col, np.ndarray) and col.shape == (5,) and col.dtype == np.float64
+    assert list(m.status) == ["finished", "finished", "invalid", "failed", "finished"]
+    assert m.ok.tolist() == [True, True, False, False, True]
+    for i in range(5):
+        member = base.with_params({k: float(v[i]) for k, v in table.items()})
+        if i == 2:
+            with pytest.raises(fd.InvalidInputError, match="method.h") as e:
+                fd.sali(member, threshold=1e-3, seed=7)
+            assert m.errors[2] == f"member 2: sali: {e.value}"
+            assert math.isnan(m.sali[2]) and math.isnan(m.megno_mean[2]) and m.sali_steps[2] == 0
+            continue
+        s = fd.sali(member, threshold=1e-3, seed=7)
+        # Bit for bit: the same floats, not merely close ones.
+        assert (m.sali[i], m.sali_min[i], int(m.sali_steps[i])) == (s["sali"], s["min"], s["steps"])
+        assert m.chaotic_at[i] == s["chaotic_at"] if s["chaotic_at"] is not None else math.isnan(m.chaotic_at[i])
+        if i == 3:
+            with pytest.raises(fd.IntegrationError) as e:
+                fd.megno(member, seed=7)
+            assert m.errors[3] == f"member 3: megno: {e.value}"
+            assert math.isnan(m.megno_mean[3]) and m.megno_steps[3] == 0
+            continue
+        y = fd.megno(member, seed=7)
+        assert (m.megno[i], m.megno_mean[i], m.megno_slope[i], m.lyapunov[i], int(m.megno_steps[i])) == (y.megno, y.mean, y.slope, y.lyapunov, y.steps)
+        assert m.errors[i] is None
+    # One thread gives the same bits; MEGNO alone leaves SALI's columns NaN.
+    one = fd.chaos_map(base, table, threshold=1e-3, seed=7, threads=1)
+    assert np.array_equal(one.megno_mean, m.megno_mean, equal_nan=True) and np.array_equal(one.sali, m.sali, equal_nan=True)
+    only = fd.chaos_map(base, table, sali=False, seed=7)
+    assert np.isnan(only.sali).all() and np.array_equal(only.megno_mean, m.megno_mean, equal_nan=True)
+
+
+def test_chaos_map_bad_input_is_typed():
+    base = fd.Scene.example("s2-point-kepler")
+    table = _kepler_map_table()
+    with pytest.raises(fd.InvalidInputError, match="indicators"):
+        fd.chaos_map(base, table, sali=False, megno=False)
+    with pytest.raises(fd.InvalidInputError, match="threshold"):
+        fd.chaos_map(base, table, threshold=2.0)
+    with pytest.raises(fd.InvalidInputError, match="eps"):
+        fd.chaos_map(base, table, eps=0.5)
+    with pytest.raises(fd.InvalidInputError, match="threads"):
+        fd.chaos_map(base, table, threads=0)
+    with pytest.raises(fd.InvalidInputError, match="potential.nope"):
+        fd.chaos_map(base, {"potential.nope": [1.0]})
+    # A field the path grammar allows but this scene has not: the member is
+    # invalid, as in solve_batch.
+    bad = fd.chaos_map(base, {"initial.nope": [1.0]})
+    assert list(bad.status) == ["invalid"] and "initial.nope" in bad.errors[0]
+    with pytest.raises(fd.InvalidInputError, match="length"):
+        fd.chaos_map(base, {"initial.r": [0.5, 0.6], "initial.phi_dot": [1.0]})
+    with pytest.raises(TypeError, match="megno"):
+        fd.chaos_map(base, table, megno=1)

@@ -1,9 +1,10 @@
-//! `lyapunov`, `sali`, `megno` and `section` (issue 21): the analyses of a scene, with the GIL
-//! released and Ctrl-C honoured; results as numpy arrays.
+//! `lyapunov`, `sali`, `megno`, `section` and `chaos_map` (issue 21): the
+//! analyses of a scene, with the GIL released and Ctrl-C honoured; results
+//! as numpy arrays.
 
-use framedyn::analysis::{AnalysisError, Linearisation};
-use framedyn::scenes::{EventSpec, SceneAnalysisError};
-use numpy::{PyArray1, PyArrayMethods};
+use framedyn::analysis::{chaos_map as map_core, AnalysisError, ChaosMapOptions, Linearisation};
+use framedyn::scenes::{EventSpec, MemberStatus, SceneAnalysisError};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -175,5 +176,56 @@ pub fn megno<'py>(py: Python<'py>, scene: &PyScene, seed: u64, eps: Option<f64>,
     d.set_item("running_mean", PyArray1::from_vec(py, e.running_mean))?;
     d.set_item("steps", e.steps)?;
     d.set_item("steps_per_step", e.steps_per_step)?;
+    Ok(d)
+}
+
+/// SALI and/or MEGNO of every member of the ensemble table `names[k]` →
+/// `columns[k]` on `scene` (see `framedyn.chaos_map`), in parallel with
+/// the GIL released: a dict of `(N,)` arrays, one per quantity, with the
+/// members' status codes and messages. Ctrl-C stops the running members
+/// and raises `KeyboardInterrupt`.
+#[pyfunction]
+#[pyo3(signature = (scene, names, columns, sali, megno, threshold, seed, eps, fourth_order, threads, oversubscribe))]
+#[allow(clippy::too_many_arguments)]
+pub fn chaos_map<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    names: Vec<String>,
+    columns: Vec<PyReadonlyArray1<'py, f64>>,
+    sali: bool,
+    megno: bool,
+    threshold: f64,
+    seed: u64,
+    eps: Option<f64>,
+    fourth_order: bool,
+    threads: Option<usize>,
+    oversubscribe: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let table = crate::ensemble::table(py, names, &columns)?;
+    let mut linearisation = if fourth_order { Linearisation::fourth_order() } else { Linearisation::default() };
+    if let Some(eps) = eps {
+        linearisation.eps = eps;
+    }
+    let opts = ChaosMapOptions { sali, megno, threshold, seed, linearisation, threads, oversubscribe };
+    let base = scene.inner.clone();
+    let m = run_interruptibly(py, move |cancel| Ok(map_core(&base, &table, &opts, cancel)?))?;
+    let d = PyDict::new(py);
+    for (name, v) in [
+        ("sali", m.sali),
+        ("sali_min", m.sali_min),
+        ("chaotic_at", m.chaotic_at),
+        ("megno", m.megno),
+        ("megno_mean", m.megno_mean),
+        ("megno_slope", m.megno_slope),
+        ("lyapunov", m.lyapunov),
+    ] {
+        d.set_item(name, PyArray1::from_vec(py, v))?;
+    }
+    d.set_item("sali_steps", PyArray1::from_vec(py, m.sali_steps))?;
+    d.set_item("megno_steps", PyArray1::from_vec(py, m.megno_steps))?;
+    d.set_item("status", PyArray1::from_vec(py, m.status.iter().map(|s| s.code()).collect()))?;
+    let names = [MemberStatus::Finished, MemberStatus::Event, MemberStatus::Cancelled, MemberStatus::Failed, MemberStatus::Invalid];
+    d.set_item("status_names", names.iter().map(|s| s.name()).collect::<Vec<_>>())?;
+    d.set_item("errors", m.errors)?;
     Ok(d)
 }

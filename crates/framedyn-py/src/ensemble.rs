@@ -37,9 +37,6 @@ pub fn run_table<'py>(
     user_gradient: Option<Py<PyAny>>,
     oversubscribe: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    if names.len() != columns.len() {
-        return Err(err(py, Kind::Invalid, format!("table: {} names for {} columns", names.len(), columns.len())));
-    }
     let keep = match (keep, samples) {
         ("all", None) => Keep::All,
         ("final", None) => Keep::Final,
@@ -48,15 +45,7 @@ pub fn run_table<'py>(
             return Err(err(py, Kind::Invalid, format!("invalid `keep` = {other:?} (samples = {s:?}): allowed: 'all', 'final', or 'samples' with samples = k ≥ 2")))
         }
     };
-    let mut cols: Vec<(String, Vec<f64>)> = Vec::with_capacity(names.len());
-    for (name, c) in names.into_iter().zip(&columns) {
-        // numpy refuses views of unaligned memory (e.g. arrays unpickled
-        // from a byte buffer) with a panic: report it as bad input instead.
-        let values = guard(|| c.as_array().to_vec())
-            .map_err(|_| err(py, Kind::Invalid, format!("table column `{name}`: an unaligned array; pass numpy.require(a, float, 'CA')")))?;
-        cols.push((name, values));
-    }
-    let table = Table::new(cols).map_err(|e| scene_err(py, &e))?;
+    let table = table(py, names, &columns)?;
     let user = check_user(py, user_potential, user_gradient)?;
     let n = table.len();
     // One error slot per member, only when a user potential can raise.
@@ -81,6 +70,23 @@ pub fn run_table<'py>(
     };
     let exceptions: Vec<Option<Py<PyAny>>> = if slots.is_empty() { (0..n).map(|_| None).collect() } else { slots.iter().map(|s| lock(s).take().map(|e| e.into_value(py).into_any())).collect() };
     to_py(py, out, exceptions)
+}
+
+/// The ensemble table `names[k]` → `columns[k]`, validated once by
+/// [`Table::new`] (also the member table of `chaos_map`).
+pub fn table(py: Python<'_>, names: Vec<String>, columns: &[PyReadonlyArray1<'_, f64>]) -> PyResult<Table> {
+    if names.len() != columns.len() {
+        return Err(err(py, Kind::Invalid, format!("table: {} names for {} columns", names.len(), columns.len())));
+    }
+    let mut cols: Vec<(String, Vec<f64>)> = Vec::with_capacity(names.len());
+    for (name, c) in names.into_iter().zip(columns) {
+        // numpy refuses views of unaligned memory (e.g. arrays unpickled
+        // from a byte buffer) with a panic: report it as bad input instead.
+        let values = guard(|| c.as_array().to_vec())
+            .map_err(|_| err(py, Kind::Invalid, format!("table column `{name}`: an unaligned array; pass numpy.require(a, float, 'CA')")))?;
+        cols.push((name, values));
+    }
+    Table::new(cols).map_err(|e| scene_err(py, &e))
 }
 
 /// The ensemble as a dict of arrays.
