@@ -5,7 +5,9 @@
 //! framedyn lyapunov SCENE [--exponents K|all] [--every N] [--transient T] [--batches B] [--seed S]
 //!                         [--eps E] [--fourth-order] [--two-trajectory] [--output RUNNING.csv]
 //! framedyn sali SCENE [--threshold X] [--seed S] [--eps E] [--fourth-order]
+//!                     [--table MEMBERS.csv|npz [--output MAP.csv] [--threads N] [--oversubscribe]]
 //! framedyn megno SCENE [--seed S] [--eps E] [--fourth-order] [--output RUNNING.csv]
+//!                      [--table MEMBERS.csv|npz [--output MAP.csv] [--threads N] [--oversubscribe]]
 //! framedyn section SCENE [--event NAME | --plane NX,NY,NZ[,NW] [--offset C] | --column NAME --value V]
 //!                        [--direction rising|falling|either] [--output SECTION.csv]
 //! ```
@@ -23,7 +25,14 @@
 //! and prints MEGNO (Cincotta & Simó 2000) at the end, its mean `⟨Y⟩` (→ 2
 //! on a quasi-periodic orbit, ≈ λ₁t/2 on a chaotic one), twice the slope of
 //! `⟨Y⟩` over the second half (an estimate of λ₁) and the vector's
-//! finite-time exponent; `--output` writes `t,megno,mean`. `section` writes the crossings of a
+//! finite-time exponent; `--output` writes `t,megno,mean`. With `--table`
+//! (the member table of `sweep`: dotted scene fields, CSV or `.npz`),
+//! `sali` and `megno` map the indicator over the members in parallel
+//! ([`framedyn::analysis::chaos_map`]) and write one CSV line per member to
+//! `--output` (else to standard output): the table's columns, the
+//! indicator's columns (`sali,sali_min,chaotic_at,sali_steps` or
+//! `megno,megno_mean,megno_slope,lyapunov,megno_steps`; NaN where it
+//! failed), `status` and `error`. `section` writes the crossings of a
 //! section — an `[[events]]` entry of the scene (`--event NAME`, or the
 //! scene's only one), or one given by the options — as CSV: header
 //! `rising,t,…` (every record column), one line per crossing.
@@ -35,7 +44,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use framedyn::analysis::{AnalysisError, Linearisation};
+use framedyn::analysis::{chaos_map, AnalysisError, ChaosMapOptions, Linearisation};
 use framedyn::scenes::{EventDirection, EventKind, EventSpec, Scene, SceneAnalysisError};
 
 use crate::{signals, target, EXIT_INTEGRATION, EXIT_INVALID, EXIT_IO};
@@ -66,6 +75,20 @@ impl TangentArgs {
         }
         l
     }
+}
+
+/// A map over a member table, shared by `sali` and `megno`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct MapArgs {
+    /// Map the indicator over the members of this table (CSV with a header of dotted scene fields, or .npz), one CSV line per member.
+    #[arg(long)]
+    pub table: Option<std::path::PathBuf>,
+    /// Worker threads of the map (default: one per core; at most 1024, and at most one per core unless --oversubscribe).
+    #[arg(long, requires = "table")]
+    pub threads: Option<usize>,
+    /// Allow more worker threads than cores.
+    #[arg(long, requires = "table")]
+    pub oversubscribe: bool,
 }
 
 /// The settings of `framedyn lyapunov` besides the scene.
@@ -192,10 +215,18 @@ pub struct SaliArgs {
     pub threshold: f64,
     /// Seed and linearisation of the two tangent vectors.
     pub tangent: TangentArgs,
+    /// A map over a member table.
+    pub map: MapArgs,
+    /// Where to write the map.
+    pub output: Option<std::path::PathBuf>,
 }
 
 /// `framedyn sali`.
 pub fn sali(scene: &Scene, origin: &str, args: &SaliArgs) -> Result<(), (u8, String)> {
+    if let Some(table) = &args.map.table {
+        let opts = ChaosMapOptions { megno: false, threshold: args.threshold, ..map_options(&args.tangent, &args.map) };
+        return map(scene, origin, table, &opts, args.output.as_deref());
+    }
     let cancel = signals::arm();
     let mut opts = scene.sali_options().map_err(|e| error(origin, e.into()))?;
     opts.threshold = args.threshold;
@@ -220,12 +251,18 @@ pub fn sali(scene: &Scene, origin: &str, args: &SaliArgs) -> Result<(), (u8, Str
 pub struct MegnoArgs {
     /// Seed and linearisation of the tangent vector.
     pub tangent: TangentArgs,
-    /// Where to write the running values.
+    /// A map over a member table.
+    pub map: MapArgs,
+    /// Where to write the running values (with a table: the map).
     pub output: Option<std::path::PathBuf>,
 }
 
 /// `framedyn megno`.
 pub fn megno(scene: &Scene, origin: &str, args: &MegnoArgs) -> Result<(), (u8, String)> {
+    if let Some(table) = &args.map.table {
+        let opts = ChaosMapOptions { sali: false, ..map_options(&args.tangent, &args.map) };
+        return map(scene, origin, table, &opts, args.output.as_deref());
+    }
     let cancel = signals::arm();
     let mut opts = scene.megno_options().map_err(|e| error(origin, e.into()))?;
     opts.seed = args.tangent.seed;
@@ -249,6 +286,102 @@ pub fn megno(scene: &Scene, origin: &str, args: &MegnoArgs) -> Result<(), (u8, S
     println!("lyapunov:        {:.6} (finite-time exponent of the same vector)", e.lyapunov);
     if let Some(path) = &args.output {
         println!("running values:  {}", path.display());
+    }
+    Ok(())
+}
+
+/// The map's options from the command line (both indicators; the caller
+/// turns one off).
+fn map_options(tangent: &TangentArgs, map: &MapArgs) -> ChaosMapOptions {
+    ChaosMapOptions { seed: tangent.seed, linearisation: tangent.linearisation(), threads: map.threads, oversubscribe: map.oversubscribe, ..ChaosMapOptions::default() }
+}
+
+/// A CSV field: quoted (with `"` doubled) if it holds a comma, a quote or a
+/// line break.
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
+
+/// `framedyn sali|megno SCENE --table`: the indicator of `opts` over the
+/// members of the table, one CSV line per member.
+fn map(scene: &Scene, origin: &str, table: &Path, opts: &ChaosMapOptions, output: Option<&Path>) -> Result<(), (u8, String)> {
+    let table = crate::sweep::read_table(table).map_err(|e| match e {
+        crate::sweep::TableError::Io(m) => (EXIT_IO, m),
+        crate::sweep::TableError::Invalid(m) => (EXIT_INVALID, m),
+    })?;
+    let cancel = signals::arm();
+    let started = std::time::Instant::now();
+    let m = chaos_map(scene, &table, opts, cancel).map_err(|e| error(origin, e.into()))?;
+    let wall = started.elapsed().as_secs_f64();
+    let names: Vec<&str> = table.names().collect();
+    let mut header: Vec<String> = names.iter().map(|n| csv_field(n)).collect();
+    let mut columns: Vec<Vec<String>> = names.iter().map(|n| table.column(n).unwrap_or(&[]).iter().map(|v| format!("{v:?}")).collect()).collect();
+    let mut add = |name: &str, values: Vec<String>| {
+        header.push(name.to_string());
+        columns.push(values);
+    };
+    let floats = |v: &[f64]| v.iter().map(|x| format!("{x:?}")).collect::<Vec<_>>();
+    let ints = |v: &[u64]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+    if opts.sali {
+        add("sali", floats(&m.sali));
+        add("sali_min", floats(&m.sali_min));
+        add("chaotic_at", floats(&m.chaotic_at));
+        add("sali_steps", ints(&m.sali_steps));
+    }
+    if opts.megno {
+        add("megno", floats(&m.megno));
+        add("megno_mean", floats(&m.megno_mean));
+        add("megno_slope", floats(&m.megno_slope));
+        add("lyapunov", floats(&m.lyapunov));
+        add("megno_steps", ints(&m.megno_steps));
+    }
+    add("status", m.status.iter().map(|s| s.name().to_string()).collect());
+    add("error", m.errors.iter().map(|e| csv_field(e.as_deref().unwrap_or(""))).collect());
+    let mut text = header.join(",") + "\n";
+    for i in 0..m.len() {
+        text.push_str(&columns.iter().map(|c| c[i].as_str()).collect::<Vec<_>>().join(","));
+        text.push('\n');
+    }
+    let counts: Vec<String> = ["finished", "invalid", "failed", "cancelled"]
+        .iter()
+        .filter_map(|name| match m.status.iter().filter(|s| s.name() == *name).count() {
+            0 => None,
+            k => Some(format!("{k} {name}")),
+        })
+        .collect();
+    let mut report = vec![format!("scene:           {origin}"), format!("members:         {} ({})", m.len(), counts.join(", "))];
+    if opts.sali {
+        report.push(format!("chaotic:         {} by SALI < {:e}", m.chaotic_at.iter().filter(|t| t.is_finite()).count(), opts.threshold));
+    }
+    if opts.megno {
+        report.push(format!("<Y> > 4:         {} by MEGNO (2: quasi-periodic, ~lambda_1 t/2: chaotic)", m.megno_mean.iter().filter(|y| **y > 4.0).count()));
+    }
+    if let Some((i, e)) = m.errors.iter().enumerate().find_map(|(i, e)| e.as_ref().map(|e| (i, e))) {
+        report.push(format!("first failure:   member {i}: {e}"));
+    }
+    report.push(format!("wall time:       {wall:.3} s"));
+    match output {
+        Some(path) => {
+            write_atomically(path, &text)?;
+            report.push(format!("output:          {}", path.display()));
+            for line in &report {
+                println!("{line}");
+            }
+        }
+        None => {
+            print!("{text}");
+            for line in &report {
+                eprintln!("{line}");
+            }
+        }
+    }
+    if cancel.load(std::sync::atomic::Ordering::SeqCst) {
+        let (code, name) = signals::interruption();
+        return Err((code, format!("interrupted by {name}; the members not computed have status `cancelled`")));
     }
     Ok(())
 }

@@ -8,8 +8,8 @@
 //! framedyn methods               # the integration methods (the registry)
 //! framedyn sweep SCENE --table members.csv|npz [--output results.npz] [--keep all|final] [--samples K] [--threads N] [--no-space-check]
 //! framedyn lyapunov SCENE [--exponents K|all] [--two-trajectory] [--output RUNNING.csv] …   # see [`analysis`]
-//! framedyn sali SCENE [--threshold X] [--seed S] [--eps E] [--fourth-order]                 # see [`analysis`]
-//! framedyn megno SCENE [--seed S] [--eps E] [--fourth-order] [--output RUNNING.csv]        # see [`analysis`]
+//! framedyn sali SCENE [--threshold X] [--seed S] [--eps E] [--fourth-order] [--table T [-o MAP.csv]]       # see [`analysis`]
+//! framedyn megno SCENE [--seed S] [--eps E] [--fourth-order] [--output RUNNING.csv] [--table T]        # see [`analysis`]
 //! framedyn section SCENE [--event NAME | --plane N | --column NAME --value V] [--direction D] [--output SECTION.csv]
 //! ```
 //!
@@ -186,6 +186,11 @@ enum Command {
         threshold: f64,
         #[command(flatten)]
         tangent: analysis::TangentArgs,
+        #[command(flatten)]
+        map: analysis::MapArgs,
+        /// With --table: write the map to this CSV (default: standard output).
+        #[arg(short, long, requires = "table")]
+        output: Option<PathBuf>,
     },
     /// MEGNO of a scene's trajectory: a fast chaos indicator from one tangent vector (its method and fixed step h).
     Megno {
@@ -193,7 +198,9 @@ enum Command {
         scene: String,
         #[command(flatten)]
         tangent: analysis::TangentArgs,
-        /// Write the running values (t, megno, mean) to this CSV.
+        #[command(flatten)]
+        map: analysis::MapArgs,
+        /// Write the running values (t, megno, mean) to this CSV; with --table, the map (default: standard output).
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
@@ -372,13 +379,13 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
             let args = analysis::LyapunovArgs { exponents, every, transient, batches, tangent, two_trajectory, output };
             analysis::lyapunov(&s, &origin, &args)
         }
-        Command::Sali { scene, threshold, tangent } => {
+        Command::Sali { scene, threshold, tangent, map, output } => {
             let (s, origin) = load(&scene)?;
-            analysis::sali(&s, &origin, &analysis::SaliArgs { threshold, tangent })
+            analysis::sali(&s, &origin, &analysis::SaliArgs { threshold, tangent, map, output })
         }
-        Command::Megno { scene, tangent, output } => {
+        Command::Megno { scene, tangent, map, output } => {
             let (s, origin) = load(&scene)?;
-            analysis::megno(&s, &origin, &analysis::MegnoArgs { tangent, output })
+            analysis::megno(&s, &origin, &analysis::MegnoArgs { tangent, map, output })
         }
         Command::Section { scene, event, plane, offset, column, value, direction, output } => {
             let (s, origin) = load(&scene)?;

@@ -907,3 +907,55 @@ fn section_writes_the_crossings() {
     let x2 = header.iter().position(|h| h == "x2").unwrap();
     assert!(rows[0][x2] > 0.9999, "{rows:?}");
 }
+
+/// `sali --table` and `megno --table` write one CSV line per member with
+/// exactly (as `{:?}`, i.e. bit for bit) the values of `Scene::sali` and
+/// `Scene::megno` on that member's scene; an invalid member in the middle
+/// gets its status and message and NaN; an option out of range exits 2
+/// naming it.
+#[test]
+fn sali_and_megno_map_a_member_table() {
+    use framedyn::scenes::Table;
+    let dir = tmpdir("chaos-map");
+    let mut base = example("s2-point-kepler").unwrap();
+    base.time.t_end = 5.0;
+    fs::write(dir.join("kepler.toml"), base.to_toml_string()).unwrap();
+    fs::write(dir.join("members.csv"), "initial.r,initial.phi_dot,method.h\n0.8,1.3,0.005\n0.7,1.3,-0.01\n0.6,1.5,0.01\n").unwrap();
+    let table = Table::new([("initial.r", vec![0.8, 0.7, 0.6]), ("initial.phi_dot", vec![1.3, 1.3, 1.5]), ("method.h", vec![0.005, -0.01, 0.01])]).unwrap();
+    let no = AtomicBool::new(false);
+    let o = framedyn(&["sali", "kepler.toml", "--table", "members.csv", "--threshold", "1e-3", "--seed", "3", "-o", "map.csv", "--threads", "2"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stdout(&o).contains("members:         3 (2 finished, 1 invalid)"), "{}", stdout(&o));
+    let sali_csv = fs::read_to_string(dir.join("map.csv")).unwrap();
+    let o = framedyn(&["megno", "kepler.toml", "--table", "members.csv", "--seed", "3"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let megno_csv = stdout(&o);
+    let lines = |text: &str| text.lines().map(|l| l.splitn(if l.contains('"') { 2 } else { usize::MAX }, '"').next().unwrap().split(',').map(str::to_string).collect::<Vec<_>>()).collect::<Vec<_>>();
+    let (s, m) = (lines(&sali_csv), lines(&megno_csv));
+    assert_eq!(s[0], ["initial.r", "initial.phi_dot", "method.h", "sali", "sali_min", "chaotic_at", "sali_steps", "status", "error"]);
+    assert_eq!(m[0], ["initial.r", "initial.phi_dot", "method.h", "megno", "megno_mean", "megno_slope", "lyapunov", "megno_steps", "status", "error"]);
+    for i in [0, 2] {
+        let scene = table.member(&base, i).unwrap();
+        let mut so = scene.sali_options().unwrap();
+        so.threshold = 1e-3;
+        so.seed = 3;
+        let e = scene.sali(&so, &no).unwrap();
+        let at = e.chaotic_at.unwrap_or(f64::NAN);
+        assert_eq!(s[i + 1][3..], [format!("{:?}", e.sali), format!("{:?}", e.min), format!("{at:?}"), e.steps.to_string(), "finished".into(), String::new()], "member {i}");
+        let mut mo = scene.megno_options().unwrap();
+        mo.seed = 3;
+        let y = scene.megno(&mo, &no).unwrap();
+        assert_eq!(m[i + 1][3..8], [format!("{:?}", y.megno), format!("{:?}", y.mean), format!("{:?}", y.slope), format!("{:?}", y.lyapunov), y.steps.to_string()], "member {i}");
+    }
+    assert_eq!(s[2][3..8], ["NaN", "NaN", "NaN", "0", "invalid"]);
+    assert!(sali_csv.lines().nth(2).unwrap().contains("\"member 1: sali: invalid `method.h` = -0.01"), "{sali_csv}");
+    for (args, needle) in [
+        (&["sali", "kepler.toml", "--table", "members.csv", "--threshold", "2"][..], "invalid --threshold = 2"),
+        (&["megno", "kepler.toml", "--table", "members.csv", "--threads", "0"][..], "invalid --threads = 0"),
+    ] {
+        let o = framedyn(args, &dir);
+        assert_eq!(code(&o), 2, "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+    }
+    let _ = fs::remove_dir_all(&dir);
+}
