@@ -15,14 +15,18 @@ log t / t), g ≫ 1 exponential growth. Verdict: "regular" when |g − 1| <
 Then the cost: wall time of fd.solve (plain run) against fd.lyapunov with
 1 and with all tangent vectors, on the same scene (median of 3).
 
-The maps. SALI (fd.sali, stopped at 1e-6: see the floor check) over a grid
-of initial conditions: the S² affine body with elastic potential over
-initial deformation a × initial deformation rate s, general J against
-isotropic J; the S² gyroscope at fixed energy and spin over the section
-plane x₁ = 0 (angle θ along the great circle, velocity v_θ along it), in
-the separable α̂cos² + β̂cos potential and with a tilt ε⟨x, e₀⟩ added.
-A point is "chaotic" when SALI fell below 1e-6 within T, "regular" when
-it ended at or above 1e-4, else "undecided". The floor check: the smallest
+The maps. SALI (stopped at 1e-8) and MEGNO ⟨Y⟩ at T over a grid of
+initial conditions, each map one fd.chaos_map call (every grid point in
+parallel on Rust threads, results as columns): the S² affine body with
+elastic potential over initial deformation a × initial deformation rate s,
+general J against isotropic J; the S² gyroscope at fixed energy and spin
+over the section plane x₁ = 0 (angle θ along the great circle, velocity
+v_θ along it), in the separable α̂cos² + β̂cos potential and with a tilt
+ε⟨x, e₀⟩ added; the S³ gyroscope (J = diag(.1, .2, .3), oscillator) over
+initial r₁ × the scale s of its initial angular velocity. A point is
+"chaotic" when SALI fell below 1e-8 within T, "regular" when it ended at
+or above 1e-4, else "undecided"; MEGNO calls it chaotic when ⟨Y⟩(T) > 4
+(→ 2 on a quasi-periodic orbit). The floor check: the smallest
 SALI that chaotic orbits reach with no threshold, for two perturbations ε
 and both difference formulas (until 145caef SALI stopped at a floor
 proportional to 1/ε there; --floor-scenes DIR writes these orbits as scene
@@ -32,11 +36,12 @@ V = r²/2) and of the gyroscope (separable, tilted).
 
 Writes docs/data/integrability_atlas.csv, integrability_cost.csv,
 integrability_map_s2_affine.csv, integrability_map_s2_gyroscope.csv,
-integrability_maps.csv, integrability_sali_floor.csv,
+integrability_map_s3_gyroscope.csv, integrability_maps.csv, integrability_sali_floor.csv,
 integrability_sections.csv and docs/figures/integrability_*.png, and prints
 the tables as Markdown (docs/integrability.md quotes them). Run:
     .venv/bin/python scripts/integrability_atlas.py               # all
     .venv/bin/python scripts/integrability_atlas.py --maps-only   # maps, sections, floor
+    .venv/bin/python scripts/integrability_atlas.py --grids-only  # the SALI/MEGNO maps only
     .venv/bin/python scripts/integrability_atlas.py --table-only  # table and cost
     .venv/bin/python scripts/integrability_atlas.py --quick       # small grids, into out/integrability_quick/
     .venv/bin/python scripts/integrability_atlas.py --floor-only  # the SALI floor check only
@@ -228,8 +233,9 @@ def table(data):
 
 # ---------------------------------------------------------------- maps
 
-MAP_THRESHOLD = 1e-6  # SALI below this: chaotic (chosen two decades above the floor SALI had until 145caef; the maps were computed then)
+MAP_THRESHOLD = 1e-8  # SALI below this: chaotic (the customary value; meaningful since SALI has no floor, 145caef)
 REGULAR_ABOVE = 1e-4  # final SALI at or above this: regular; in between: undecided
+MEGNO_CHAOTIC = 4.0  # <Y>(T) above this: chaotic by MEGNO (regular orbits: <Y> -> 2; chaotic: <Y> ~ lambda_1 T/2)
 
 # The affine body of the atlas: ρ = 1 + a·D, ρ̇ = s·Ṙ (a = s = 1: the atlas's
 # "large deformation" state), position r = 0.7, φ̇ = 1.5.
@@ -245,8 +251,14 @@ GYRO_ALPHA_HAT, GYRO_BETA_HAT, GYRO_SPIN, GYRO_E = 0.5, -0.4, 0.6, 1.0
 GYRO_EPS = 0.6
 GYRO_H = 0.01
 
+# The S³ gyroscope of s3-gyroscope (J = diag(.1, .2, .3), oscillator
+# κ = 0.5): initial r₁ (the other initial values of the scene) against the
+# scale s of its initial body angular velocity ω = s·(1, 0.5, −0.3).
+S3_OMEGA = np.array([1.0, 0.5, -0.3])
+S3_H = 0.005
+
 # Initial-energy bands in which the summary counts the chaotic points.
-ENERGY_BANDS = {"s2_affine": [(2.0, 3.0), (3.0, 3.5), (3.5, 4.0), (4.0, 5.0)], "s2_gyroscope": [(1.5, 1.7)]}
+ENERGY_BANDS = {"s2_affine": [(2.0, 3.0), (3.0, 3.5), (3.5, 4.0), (4.0, 5.0)], "s2_gyroscope": [(1.5, 1.7)], "s3_gyroscope": []}
 
 
 def affine_scene(a, s, general, t_end, h=AFFINE_H):
@@ -265,15 +277,25 @@ def gyro_potential(x, eps):
     return GYRO_ALPHA_HAT * x[2] ** 2 + GYRO_BETA_HAT * x[2] + eps * x[0]
 
 
-def gyro_scene(eps, theta, v_theta, t_end, h=GYRO_H):
-    """The gyroscope on the great circle x₁ = 0 at angle θ from the north
-    pole towards +x₀, velocity v_θ along the circle and v₁ > 0 across it
-    from the energy; None where v_θ is not allowed at that energy."""
+def gyro_initial(eps, theta, v_theta):
+    """Position and velocity of the gyroscope on the great circle x₁ = 0 at
+    angle θ from the north pole towards +x₀, velocity v_θ along the circle
+    and v₁ > 0 across it from the energy; None where v_θ is not allowed at
+    that energy."""
     x = np.array([math.sin(theta), 0.0, math.cos(theta)])
     k = 2.0 * (GYRO_E - gyro_potential(x, eps)) - v_theta**2
     if k < 0.0:
         return None
     v = v_theta * np.array([math.cos(theta), 0.0, -math.sin(theta)]) + math.sqrt(k) * np.array([0.0, 1.0, 0.0])
+    return x, v
+
+
+def gyro_scene(eps, theta, v_theta, t_end, h=GYRO_H):
+    """The gyroscope from gyro_initial(eps, θ, v_θ), or None."""
+    xv = gyro_initial(eps, theta, v_theta)
+    if xv is None:
+        return None
+    x, v = xv
     d = fd.Scene.example("s2-gyroscope-cosine").to_dict()
     terms = [{"kind": "cosine", "scale": 1.0, "alpha_hat": GYRO_ALPHA_HAT, "beta_hat": GYRO_BETA_HAT}]
     if eps != 0.0:
@@ -286,65 +308,58 @@ def gyro_scene(eps, theta, v_theta, t_end, h=GYRO_H):
     return fd.Scene.from_dict(d)
 
 
+def s3_scene(t_end, h=S3_H):
+    d = fd.Scene.example("s3-gyroscope").to_dict()
+    d["time"]["t_end"] = t_end
+    d["method"]["h"] = h
+    d.pop("output", None)
+    return fd.Scene.from_dict(d)
+
+
 def classify(r):
     if r["chaotic_at"] is not None:
         return "chaotic"
     return "regular" if r["sali"] >= REGULAR_ABOVE else "undecided"
 
 
-def initial_record(s):
-    """The first record of a short run of `s` (energy, momenta)."""
-    d = s.to_dict()
-    d["time"]["t_end"] = d["time"]["t0"] + 10 * d["method"]["h"]
-    sol = fd.solve(fd.Scene.from_dict(d))
-    return dict(zip(sol.columns, sol.data[0]))
-
-
-def map_point(task):
-    """One grid point (run in a worker): SALI and the initial energy."""
-    model, variant, p, q, t_end = task
+def map_members(model, variant, ps, qs, t_end):
+    """The base scene of a map and its member table (the grid points the
+    energy allows, p fastest): (scene, table, p of each member, q of each
+    member, number of forbidden points)."""
+    pp, qq = [float(p) for q in qs for p in ps], [float(q) for q in qs for p in ps]
     if model == "s2_affine":
-        s = affine_scene(p, q, variant == "general J", t_end)
-    else:
-        s = gyro_scene(GYRO_EPS if variant == "tilted" else 0.0, p, q, t_end)
-    row = {"model": model, "variant": variant, "p": p, "q": q, "T": t_end}
-    if s is None:
-        return {**row, "energy": float("nan"), "spin": float("nan"), "sali": float("nan"), "sali_min": float("nan"), "chaotic_at": float("nan"), "steps": 0, "class": "forbidden", "cpu_s": 0.0}
-    rec = initial_record(s)
-    spin = rec["k_12"] - rec["k_21"] if model == "s2_affine" else rec["spin"]
-    c0 = time.process_time()
-    r = fd.sali(s, threshold=MAP_THRESHOLD)
-    cpu = time.process_time() - c0
-    return {
-        **row,
-        "energy": float(rec["energy"]),
-        "spin": float(spin),
-        "sali": r["sali"],
-        "sali_min": r["min"],
-        "chaotic_at": r["chaotic_at"] if r["chaotic_at"] is not None else float("nan"),
-        "steps": r["steps"],
-        "class": classify(r),
-        "cpu_s": cpu,
-    }
+        base = affine_scene(0.0, 0.0, variant == "general J", t_end)
+        rho = [np.eye(2) + p * AFFINE_D for p in pp]
+        rdot = [q * AFFINE_RDOT for q in qq]
+        table = {f"initial.rho.{i}.{j}": np.array([m[i, j] for m in rho]) for i in range(2) for j in range(2)}
+        table.update({f"initial.rho_dot.{i}.{j}": np.array([m[i, j] for m in rdot]) for i in range(2) for j in range(2)})
+        return base, table, np.array(pp), np.array(qq), 0
+    if model == "s3_gyroscope":
+        table = {"initial.r1": np.array(pp), **{f"initial.omega.{k}": np.array(qq) * S3_OMEGA[k] for k in range(3)}}
+        return s3_scene(t_end), table, np.array(pp), np.array(qq), 0
+    eps = GYRO_EPS if variant == "tilted" else 0.0
+    allowed = [(p, q, gyro_initial(eps, p, q)) for p, q in zip(pp, qq)]
+    kept = [(p, q, xv) for p, q, xv in allowed if xv is not None]
+    base = gyro_scene(eps, kept[0][0], kept[0][1], t_end)
+    table = {f"initial.position.{k}": np.array([xv[0][k] for _, _, xv in kept]) for k in range(3)}
+    table.update({f"initial.velocity.{k}": np.array([xv[1][k] for _, _, xv in kept]) for k in range(3)})
+    return base, table, np.array([p for p, _, _ in kept]), np.array([q for _, q, _ in kept]), len(allowed) - len(kept)
+
+
+def initial_records(base, table):
+    """The first record of every member (energy, momenta): one columnar
+    solve_batch of 10 steps each."""
+    d = base.to_dict()
+    n = len(next(iter(table.values())))
+    short = {**table, "time.t_end": np.full(n, d["time"]["t0"] + 10 * d["method"]["h"])}
+    out = fd.solve_batch(base, short, keep="all")
+    first = out.flat[out.offsets[:-1]]
+    return {c: first[:, j] for j, c in enumerate(out.columns)}
 
 
 def centres(lo, hi, n):
     """n cell centres of [lo, hi] (a grid that avoids its ends)."""
     return lo + (hi - lo) * (np.arange(n) + 0.5) / n
-
-
-def map_grids(quick):
-    """(model, variants, p values, q values, T, step, axis names)."""
-    if quick:
-        a, s, t_aff = np.linspace(0.0, 1.375, 4), np.linspace(0.0, 3.0, 4), 300.0
-        th, vt, t_gyro = centres(-math.pi, math.pi, 12), centres(-1.9, 1.9, 6), 300.0
-    else:
-        a, s, t_aff = np.arange(12) * 0.125, np.arange(13) * 0.25, 500.0
-        th, vt, t_gyro = centres(-math.pi, math.pi, 30), centres(-1.9, 1.9, 18), 500.0
-    return [
-        ("s2_affine", ("general J", "isotropic J"), a, s, t_aff, AFFINE_H, ("a", "s")),
-        ("s2_gyroscope", ("separable", "tilted"), th, vt, t_gyro, GYRO_H, ("theta", "v_theta")),
-    ]
 
 
 def pool_map(f, tasks, workers):
@@ -354,96 +369,184 @@ def pool_map(f, tasks, workers):
         return pool.map(f, tasks, chunksize=1)
 
 
-def maps(quick, workers, data, figures):
-    summary = []
+def map_grids(quick):
+    """(model, variants, p values, q values, T, step, axis names)."""
+    if quick:
+        a, s, t_aff = np.linspace(0.0, 1.375, 4), np.linspace(0.0, 3.0, 4), 300.0
+        th, vt, t_gyro = centres(-math.pi, math.pi, 12), centres(-1.9, 1.9, 6), 300.0
+        r1, w, t_s3 = np.linspace(0.1, 1.3, 4), np.linspace(0.0, 6.0, 3), 100.0
+    else:
+        a, s, t_aff = np.arange(12) * 0.125, np.arange(13) * 0.25, 500.0
+        th, vt, t_gyro = centres(-math.pi, math.pi, 30), centres(-1.9, 1.9, 18), 500.0
+        r1, w, t_s3 = np.linspace(0.1, 1.4, 12), np.linspace(0.0, 6.0, 10), 300.0
+    return [
+        ("s2_affine", ("general J", "isotropic J"), a, s, t_aff, AFFINE_H, ("a", "s")),
+        ("s2_gyroscope", ("separable", "tilted"), th, vt, t_gyro, GYRO_H, ("theta", "v_theta")),
+        ("s3_gyroscope", ("J = diag(.1, .2, .3)",), r1, w, t_s3, S3_H, ("r1", "omega_scale")),
+    ]
+
+
+def maps(quick, data, figures):
+    """Each map is one fd.chaos_map call (SALI and MEGNO of every grid point,
+    in parallel in Rust) on its base scene and member table."""
+    summary, rows_all = [], {}
     for model, variants, ps, qs, t_end, h, (pn, qn) in map_grids(quick):
-        tasks = [(model, v, float(p), float(q), t_end) for v in variants for q in qs for p in ps]
-        rows = [{pn: r["p"], qn: r["q"], **{k: v for k, v in r.items() if k not in ("p", "q")}} for r in pool_map(map_point, tasks, workers)]
-        write(os.path.join(data, f"integrability_map_{model}.csv"), [r for r in rows if r["class"] != "forbidden"])
+        rows = []
         for v in variants:
-            mine = [r for r in rows if r["variant"] == v]
-            allowed = [r for r in mine if r["class"] != "forbidden"]
-            count = {c: sum(r["class"] == c for r in allowed) for c in ("chaotic", "undecided", "regular")}
-            times = [r["chaotic_at"] for r in allowed if r["class"] == "chaotic"]
-            regular_sali = [r["sali"] for r in allowed if r["class"] == "regular"]
-            chaotic_p = [r[pn] for r in allowed if r["class"] == "chaotic"]
-            chaotic_e = [r["energy"] for r in allowed if r["class"] == "chaotic"]
+            base, table, mp, mq, forbidden = map_members(model, v, ps, qs, t_end)
+            rec = initial_records(base, table)
+            w0, c0 = time.perf_counter(), time.process_time()
+            m = fd.chaos_map(base, table, threshold=MAP_THRESHOLD)
+            wall, cpu = time.perf_counter() - w0, time.process_time() - c0
+            if not m.ok.all():
+                bad = np.flatnonzero(~m.ok)
+                raise SystemExit(f"map {model} {v}: {bad.size} members not finished, e.g. {m.errors[int(bad[0])]}")
+            energy = rec["energy"]
+            spin = rec["k_12"] - rec["k_21"] if model == "s2_affine" else rec.get("spin", np.full(len(m), np.nan))
+            chaotic = np.isfinite(m.chaotic_at)
+            cls = np.where(chaotic, "chaotic", np.where(m.sali >= REGULAR_ABOVE, "regular", "undecided"))
+            mcls = np.where(m.megno_mean > MEGNO_CHAOTIC, "chaotic", "regular")
+            mine = [
+                {
+                    "model": model,
+                    "variant": v,
+                    pn: float(mp[i]),
+                    qn: float(mq[i]),
+                    "T": t_end,
+                    "energy": float(energy[i]),
+                    "spin": float(spin[i]),
+                    "sali": float(m.sali[i]),
+                    "sali_min": float(m.sali_min[i]),
+                    "chaotic_at": float(m.chaotic_at[i]),
+                    "sali_steps": int(m.sali_steps[i]),
+                    "class": str(cls[i]),
+                    "megno_mean": float(m.megno_mean[i]),
+                    "megno_slope": float(m.megno_slope[i]),
+                    "lyapunov": float(m.lyapunov[i]),
+                    "megno_class": str(mcls[i]),
+                }
+                for i in range(len(m))
+            ]
+            rows += mine
+            count = {c: int(np.sum(cls == c)) for c in ("chaotic", "undecided", "regular")}
+            decided = cls != "undecided"
+            reg, cha, und = cls == "regular", cls == "chaotic", cls == "undecided"
             summary.append(
                 {
                     "map": model,
                     "variant": v,
                     "grid": f"{len(ps)}x{len(qs)}",
-                    "points": len(allowed),
+                    "points": len(m),
+                    "forbidden": forbidden,
                     "T": t_end,
                     "h": h,
                     "threshold": MAP_THRESHOLD,
                     "chaotic": count["chaotic"],
                     "undecided": count["undecided"],
                     "regular": count["regular"],
-                    "chaotic_fraction": count["chaotic"] / len(allowed),
-                    "t_chaos_median": float(np.median(times)) if times else float("nan"),
-                    "t_chaos_max": float(np.max(times)) if times else float("nan"),
-                    "regular_sali_min": float(np.min(regular_sali)) if regular_sali else float("nan"),
-                    "chaotic_first_parameter_min": float(np.min(chaotic_p)) if chaotic_p else float("nan"),
-                    "chaotic_energy_min": float(np.min(chaotic_e)) if chaotic_e else float("nan"),
-                    "by_energy": " ".join(f"[{lo:g},{hi:g}):{sum(lo <= r['energy'] < hi and r['class'] == 'chaotic' for r in allowed)}/{sum(lo <= r['energy'] < hi for r in allowed)}" for lo, hi in ENERGY_BANDS[model]),
-                    "energy_min": float(np.min([r["energy"] for r in allowed])),
-                    "energy_max": float(np.max([r["energy"] for r in allowed])),
-                    "cpu_s": float(sum(r["cpu_s"] for r in mine)),
+                    "chaotic_fraction": count["chaotic"] / len(m),
+                    "t_chaos_median": float(np.median(m.chaotic_at[cha])) if cha.any() else float("nan"),
+                    "t_chaos_max": float(np.max(m.chaotic_at[cha])) if cha.any() else float("nan"),
+                    "regular_sali_min": float(np.min(m.sali[reg])) if reg.any() else float("nan"),
+                    "megno_chaotic": int(np.sum(mcls == "chaotic")),
+                    "megno_agree": int(np.sum((mcls == cls) & decided)),
+                    "decided": int(np.sum(decided)),
+                    "megno_regular_range": f"{np.min(m.megno_mean[reg]):.2f} … {np.max(m.megno_mean[reg]):.2f}" if reg.any() else "—",
+                    "megno_regular_median": float(np.median(m.megno_mean[reg])) if reg.any() else float("nan"),
+                    "megno_undecided_range": f"{np.min(m.megno_mean[und]):.1f} … {np.max(m.megno_mean[und]):.1f}" if und.any() else "—",
+                    "megno_only": int(np.sum(reg & (mcls == "chaotic"))),
+                    "megno_only_sali_range": f"{np.min(m.sali[reg & (mcls == 'chaotic')]):.1e} … {np.max(m.sali[reg & (mcls == 'chaotic')]):.1e}" if (reg & (mcls == "chaotic")).any() else "—",
+                    "megno_only_megno_range": f"{np.min(m.megno_mean[reg & (mcls == 'chaotic')]):.1f} … {np.max(m.megno_mean[reg & (mcls == 'chaotic')]):.1f}" if (reg & (mcls == "chaotic")).any() else "—",
+                    "sali_only": int(np.sum(cha & (mcls == "regular"))),
+                    "megno_chaotic_range": f"{np.min(m.megno_mean[cha]):.1f} … {np.max(m.megno_mean[cha]):.1f}" if cha.any() else "—",
+                    "lyapunov_regular_max": float(np.max(m.lyapunov[reg])) if reg.any() else float("nan"),
+                    "lyapunov_chaotic_median": float(np.median(m.lyapunov[cha])) if cha.any() else float("nan"),
+                    "chaotic_first_parameter_min": float(np.min(mp[cha])) if cha.any() else float("nan"),
+                    "chaotic_energy_min": float(np.min(energy[cha])) if cha.any() else float("nan"),
+                    "by_energy": " ".join(f"[{lo:g},{hi:g}):{int(np.sum((lo <= energy) & (energy < hi) & cha))}/{int(np.sum((lo <= energy) & (energy < hi)))}" for lo, hi in ENERGY_BANDS[model]),
+                    "energy_min": float(np.min(energy)),
+                    "energy_max": float(np.max(energy)),
+                    "wall_s": wall,
+                    "cpu_s": cpu,
                 }
             )
-            print(f"map {model} {v}: {count} of {len(allowed)}", file=sys.stderr)
+            print(f"map {model} {v}: {count} of {len(m)}, MEGNO chaotic {summary[-1]['megno_chaotic']}, {wall:.0f} s wall, {cpu:.0f} s CPU", file=sys.stderr)
+        write(os.path.join(data, f"integrability_map_{model}.csv"), rows)
         plot_map(model, variants, ps, qs, rows, (pn, qn), summary[-len(variants):], figures)
+        rows_all[model] = rows
     return summary
 
 
 def affine_drift(quick):
-    """Energy drift of the map's most violent corner (largest a and s) over T."""
+    """Relative energy drift over T at the maps' most violent corners: the
+    affine body at the largest a and s (general J, isotropic J) and the S³
+    gyroscope at the largest r₁ and spin."""
     a, s, t_end = 1.375, 3.0, (300.0 if quick else 500.0)
+    scenes = [affine_scene(a, s, general, t_end) for general in (True, False)]
+    r1, w, t_s3 = map_grids(quick)[2][2][-1], map_grids(quick)[2][3][-1], map_grids(quick)[2][4]
+    d = s3_scene(t_s3).to_dict()
+    d["initial"]["r1"] = float(r1)
+    d["initial"]["omega"] = (w * S3_OMEGA).tolist()
+    scenes.append(fd.Scene.from_dict(d))
     out = []
-    for general in (True, False):
-        sol = fd.solve(affine_scene(a, s, general, t_end))
-        e = sol.energy
+    for sc in scenes:
+        e = fd.solve(sc).energy
         out.append(float(np.max(np.abs(e - e[0])) / abs(e[0])))
     return out
 
 
 def plot_map(model, variants, ps, qs, rows, names, summary, figures):
+    """SALI at the end (top row) and MEGNO ⟨Y⟩ at T (bottom row) over the
+    grid, one column per variant."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     pn, qn = names
-    fig, axes = plt.subplots(1, len(variants), figsize=(6.2 * len(variants), 4.9), constrained_layout=True)
-    cmap = plt.get_cmap("magma").copy()
-    cmap.set_bad("0.85")
+    fig, axes = plt.subplots(2, len(variants), figsize=(6.2 * len(variants), 9.4), constrained_layout=True, squeeze=False)
     dp, dq = (ps[1] - ps[0]) if len(ps) > 1 else 1.0, (qs[1] - qs[0]) if len(qs) > 1 else 1.0
     extent = [ps[0] - dp / 2, ps[-1] + dp / 2, qs[0] - dq / 2, qs[-1] + dq / 2]
-    for ax, v, summ in zip(axes, variants, summary):
+    for k, (v, summ) in enumerate(zip(variants, summary)):
         z = np.full((len(qs), len(ps)), np.nan)
+        y = np.full((len(qs), len(ps)), np.nan)
         e = np.full((len(qs), len(ps)), np.nan)
         for r in rows:
-            if r["variant"] != v or r["class"] == "forbidden":
+            if r["variant"] != v:
                 continue
             i, j = int(np.argmin(np.abs(qs - r[qn]))), int(np.argmin(np.abs(ps - r[pn])))
             z[i, j] = math.log10(max(r["sali"], 1e-12))
+            y[i, j] = r["megno_mean"]
             e[i, j] = r["energy"]
-        im = ax.imshow(np.ma.masked_invalid(z), origin="lower", extent=extent, aspect="auto", cmap=cmap, vmin=math.log10(MAP_THRESHOLD), vmax=0.0, interpolation="nearest")
-        title = f"{v}: chaotic {summ['chaotic']}/{summ['points']} ({100 * summ['chaotic_fraction']:.0f} %), undecided {summ['undecided']}"
-        if model == "s2_affine":
-            cs = ax.contour(ps, qs, e, levels=6, colors="white", linewidths=0.6, alpha=0.8)
-            ax.clabel(cs, fmt="E=%.1f", fontsize=7)
-            ax.plot([1.0], [1.0], marker="*", ms=12, mfc="none", mec="cyan", mew=1.5)
-            ax.set_xlabel(r"initial deformation $a$ ($\rho = 1 + a D$)")
-            ax.set_ylabel(r"initial rate $s$ ($\dot\rho = s\,\dot R$)")
-            ax.set_title(f"S² affine body, elastic, {title}", fontsize=9)
-        else:
-            ax.set_xlabel(r"$\theta$ on the circle $x_1 = 0$ (0: north pole, $\pm\pi$: south)")
-            ax.set_ylabel(r"$v_\theta$")
-            pot = r"$\hat\alpha z^2 + \hat\beta z$" if v == "separable" else rf"$\hat\alpha z^2 + \hat\beta z + {GYRO_EPS}\,x$"
-            ax.set_title(f"S² gyroscope, {pot}: {title}", fontsize=9)
-    fig.colorbar(im, ax=axes, label=r"$\log_{10}$ SALI at the end (runs stop at $10^{-6}$)", shrink=0.9)
+        for row, (values, cmap_name, lo, hi, what) in enumerate(
+            [
+                (z, "magma", math.log10(MAP_THRESHOLD), 0.0, f"SALI: chaotic {summ['chaotic']}/{summ['points']} ({100 * summ['chaotic_fraction']:.0f} %), undecided {summ['undecided']}"),
+                (y, "viridis", 0.0, 2.0 * MEGNO_CHAOTIC, f"MEGNO: ⟨Y⟩ > {MEGNO_CHAOTIC:g} at {summ['megno_chaotic']}/{summ['points']}; agrees with SALI at {summ['megno_agree']}/{summ['decided']}"),
+            ]
+        ):
+            ax = axes[row, k]
+            cmap = plt.get_cmap(cmap_name).copy()
+            cmap.set_bad("0.85")
+            im = ax.imshow(np.ma.masked_invalid(values), origin="lower", extent=extent, aspect="auto", cmap=cmap, vmin=lo, vmax=hi, interpolation="nearest")
+            if model == "s2_affine":
+                cs = ax.contour(ps, qs, e, levels=6, colors="white", linewidths=0.6, alpha=0.8)
+                ax.clabel(cs, fmt="E=%.1f", fontsize=7)
+                ax.plot([1.0], [1.0], marker="*", ms=12, mfc="none", mec="cyan", mew=1.5)
+                ax.set_xlabel(r"initial deformation $a$ ($\rho = 1 + a D$)")
+                ax.set_ylabel(r"initial rate $s$ ($\dot\rho = s\,\dot R$)")
+                ax.set_title(f"S² affine body, elastic, {v}\n{what}", fontsize=9)
+            elif model == "s2_gyroscope":
+                ax.set_xlabel(r"$\theta$ on the circle $x_1 = 0$ (0: north pole, $\pm\pi$: south)")
+                ax.set_ylabel(r"$v_\theta$")
+                pot = r"$\hat\alpha z^2 + \hat\beta z$" if v == "separable" else rf"$\hat\alpha z^2 + \hat\beta z + {GYRO_EPS}\,x$"
+                ax.set_title(f"S² gyroscope, {pot}\n{what}", fontsize=9)
+            else:
+                ax.set_xlabel(r"initial $r_1$")
+                ax.set_ylabel(r"$s$: initial $\omega = s\,(1, 0.5, -0.3)$")
+                ax.set_title(f"S³ gyroscope, oscillator, {v}\n{what}", fontsize=9)
+            if k == len(variants) - 1:
+                label = rf"$\log_{{10}}$ SALI at the end (runs stop at $10^{{{int(math.log10(MAP_THRESHOLD))}}}$)" if row == 0 else r"MEGNO $\langle Y\rangle$ at $T$ (2: quasi-periodic)"
+                fig.colorbar(im, ax=axes[row, :].tolist(), label=label, shrink=0.9)
     fig.savefig(os.path.join(figures, f"integrability_map_{model}.png"), dpi=110)
     plt.close(fig)
 
@@ -605,22 +708,45 @@ def sections(quick, workers, data, figures):
     return rows
 
 
-def print_maps(summary, drift, floor, sec_rows, kepler):
+def print_map_summary(summary):
     print()
-    print("| map | variant | grid (points) | T | chaotic (SALI < 1e-6) | undecided | regular | chaotic fraction | t at 1e-6: median, max | smallest final SALI of the regular | initial energy | CPU |")
+    print(
+        f"| map | variant | grid (points) | T | chaotic (SALI < {MAP_THRESHOLD:g}) | undecided | regular | chaotic fraction | t at {MAP_THRESHOLD:g}: median, max | "
+        "smallest final SALI of the regular | initial energy | wall, CPU |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in summary:
         times = "—" if math.isnan(r["t_chaos_median"]) else f"{r['t_chaos_median']:.0f}, {r['t_chaos_max']:.0f}"
         print(
             f"| {r['map']} | {r['variant']} | {r['grid']} ({r['points']}) | {r['T']:g} | {r['chaotic']} | {r['undecided']} | {r['regular']} | "
-            f"{100 * r['chaotic_fraction']:.1f} % | {times} | {r['regular_sali_min']:.1e} | {r['energy_min']:.2f} … {r['energy_max']:.2f} | {r['cpu_s']:.0f} s |"
+            f"{100 * r['chaotic_fraction']:.1f} % | {times} | {r['regular_sali_min']:.1e} | {r['energy_min']:.2f} … {r['energy_max']:.2f} | {r['wall_s']:.0f} s, {r['cpu_s']:.0f} s |"
+        )
+    print()
+    print(
+        f"| map | variant | ⟨Y⟩ > {MEGNO_CHAOTIC:g} | agrees with SALI (of the decided) | ⟨Y⟩ of the SALI-regular: range, median | ⟨Y⟩ of the SALI-undecided | ⟨Y⟩ of the SALI-chaotic | "
+        f"SALI-regular with ⟨Y⟩ > {MEGNO_CHAOTIC:g}: count, their final SALI, their ⟨Y⟩ | SALI-chaotic with ⟨Y⟩ ≤ {MEGNO_CHAOTIC:g} | finite-time λ: largest regular, median chaotic |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r in summary:
+        print(
+            f"| {r['map']} | {r['variant']} | {r['megno_chaotic']} | {r['megno_agree']}/{r['decided']} | {r['megno_regular_range']}, {r['megno_regular_median']:.2f} | "
+            f"{r['megno_undecided_range']} | {r['megno_chaotic_range']} | {r['megno_only']}, {r['megno_only_sali_range']}, {r['megno_only_megno_range']} | {r['sali_only']} | "
+            f"{r['lyapunov_regular_max']:.3f}, {r['lyapunov_chaotic_median']:.3f} |"
         )
     print()
     for r in summary:
         if r["map"] == "s2_affine":
             print(f"{r['map']} {r['variant']}: chaotic by initial energy (band: chaotic/points) {r['by_energy']}; smallest a of a chaotic point {r['chaotic_first_parameter_min']:g}, lowest initial energy {r['chaotic_energy_min']:.2f}")
+
+
+def print_drift(drift):
+    print(f"\naffine map corner (a = 1.375, s = 3) relative energy drift over T: general J {drift[0]:.1e}, isotropic J {drift[1]:.1e}; S³ map corner (largest r1 and spin) {drift[2]:.1e}")
+
+
+def print_maps(summary, drift, floor, sec_rows, kepler):
+    print_map_summary(summary)
     if drift is not None:
-        print(f"\naffine map corner (a = 1.375, s = 3) relative energy drift over T: general J {drift[0]:.1e}, isotropic J {drift[1]:.1e}")
+        print_drift(drift)
     print()
     print_floor(floor)
     print()
@@ -645,8 +771,9 @@ def main():
     ap.add_argument("--maps-only", action="store_true", help="maps, sections and the SALI floor only (not the table and cost)")
     ap.add_argument("--table-only", action="store_true", help="the table and cost only (not the maps)")
     ap.add_argument("--floor-only", action="store_true", help="the SALI floor check only")
+    ap.add_argument("--grids-only", action="store_true", help="the SALI/MEGNO maps over initial conditions only (not the floor check and sections)")
     ap.add_argument("--floor-scenes", metavar="DIR", help="write the floor check's orbits as scene files (JSON) into DIR and stop")
-    ap.add_argument("--workers", type=int, default=2, help="worker processes for the maps (1 or 2)")
+    ap.add_argument("--workers", type=int, default=2, help="worker processes for the sections (1 or 2); the maps run on the Rust threads of fd.chaos_map")
     args = ap.parse_args()
     workers = max(1, min(2, args.workers))
     data, figures = DATA, FIGURES
@@ -666,10 +793,17 @@ def main():
         print_floor(floor)
         print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
         return
+    if args.grids_only:
+        summary = maps(args.quick, data, figures)
+        write(os.path.join(data, "integrability_maps.csv"), summary)
+        print_map_summary(summary)
+        print_drift(affine_drift(args.quick))
+        print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
+        return
     if not args.maps_only:
         table(data)
     if not args.table_only:
-        summary = maps(args.quick, workers, data, figures)
+        summary = maps(args.quick, data, figures)
         write(os.path.join(data, "integrability_maps.csv"), summary)
         drift = affine_drift(args.quick)
         floor = sali_floor(args.quick)
