@@ -26,22 +26,8 @@ step() { echo "[test.sh] $1: $((SECONDS - step_start)) s"; step_start=$SECONDS; 
 
 ./scripts/python-env.sh
 step "python environment"
-export FRAMEDYN_VENV="${FRAMEDYN_VENV:-$PWD/.venv}"
-PY="$FRAMEDYN_VENV/bin/python"
-# What maturin sets when it builds the extension; set for cargo too, so that
-# pyo3's build script sees the same configuration and nothing is rebuilt.
-export VIRTUAL_ENV="$FRAMEDYN_VENV"
-export PYO3_PYTHON="$PY"
-export PYTHON_SYS_EXECUTABLE="$PY"
-export PYO3_BUILD_EXTENSION_MODULE=1
-PYO3_ENVIRONMENT_SIGNATURE="$("$PY" - <<'PYEOF'
-import platform, struct
-impl = platform.python_implementation().lower()
-major, minor = platform.python_version_tuple()[:2]
-print(f"{impl}-{major}.{minor}-{struct.calcsize('P') * 8}bit")
-PYEOF
-)"
-export PYO3_ENVIRONMENT_SIGNATURE
+# shellcheck source=scripts/build-env.sh
+. scripts/build-env.sh
 
 # Everything below shares one dependency graph, so the core crate is compiled
 # once for the Rust tests, the examples and the Python extension (see
@@ -60,7 +46,15 @@ fi
 # The dev profile's opt-level-0 exceptions must not reach a binary of ours
 # (Cargo.toml explains why; a few seconds of `cargo metadata`).
 "$PY" scripts/check_profile.py
-cargo test --workspace --all-targets
+# `--tests --examples`, not `--all-targets`: the test harnesses of every
+# library that has tests (the CLI's; the core, the extension and
+# framedyn-tests have none, `test = false`), the integration tests and the
+# examples (compiled as test harnesses: a compile check). `--all-targets`
+# also compiled those three empty library harnesses and the criterion
+# bench, about 90 s of CPU time on a fresh clone; the bench harness and the
+# API docs are checked by scripts/check_more.sh, which CI runs after this
+# script (docs/development.md, "The two commands").
+cargo test --workspace --tests --examples
 step "cargo test (build and run)"
 cargo test --workspace --doc
 step "doctests"
@@ -78,9 +72,7 @@ step "examples (build)"
 # If a dependency update breaks that, say so instead of silently doubling
 # the build time.
 stamp="$(mktemp)"
-doc_log="$(mktemp)"
-doc_pid=""
-trap 'rm -f "$stamp" "$doc_log"; if [ -n "$doc_pid" ]; then kill "$doc_pid" 2>/dev/null || true; fi' EXIT
+trap 'rm -f "$stamp"' EXIT
 # The extension is an abi3 module (_framedyn.abi3.so); a version-specific
 # one left by a build before the switch would shadow it on import.
 rm -f python/framedyn/_framedyn.cpython-*.so
@@ -93,17 +85,6 @@ if [ -n "$(find "$target_dir/debug/deps" -maxdepth 1 -name 'libframedyn-*.rlib' 
 fi
 step "maturin develop"
 
-# The API docs build without warnings (broken intra-doc links, missing
-# docs). The last cargo command: it runs in the background, beside the
-# examples and pytest, which need no cargo (docs/development.md, "The two
-# commands"); its output is printed when it ends.
-(
-    doc_start=$SECONDS
-    RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
-    echo "[test.sh] cargo doc (beside the examples and pytest): $((SECONDS - doc_start)) s"
-) >"$doc_log" 2>&1 &
-doc_pid=$!
-
 for example in "${examples[@]}"; do
     echo "example $example"
     "$target_dir/debug/examples/$example"
@@ -113,12 +94,3 @@ step "examples (run)"
 MPLBACKEND=Agg "$PY" -m pytest python/tests -q
 step "pytest"
 
-doc_status=0
-wait "$doc_pid" || doc_status=$?
-doc_pid=""
-cat "$doc_log"
-if [ "$doc_status" -ne 0 ]; then
-    echo "cargo doc failed (exit status $doc_status): see above" >&2
-    exit "$doc_status"
-fi
-step "waiting for cargo doc"

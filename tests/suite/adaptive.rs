@@ -10,7 +10,7 @@
 //! (the same definition as `scripts/tolerance_proportionality.py`), against
 //! a fixed-step DOP853 reference (no step-size control involved) whose own
 //! error is checked by halving its step. Measured numbers:
-//! `cargo test --workspace --test suite adaptive -- --nocapture`.
+//! `cargo test --workspace --test methods adaptive -- --nocapture`.
 
 use std::sync::atomic::AtomicBool;
 

@@ -78,7 +78,7 @@ where
 /// 1e-10) must either fail, be ≥ 100× less accurate than the group DOPRI5 at
 /// the same tolerance, or need ≥ 3× its steps — measured: it gets through
 /// (error 6.1e-11) by shrinking h near the pole, at the step counts printed.
-/// `cargo test --test suite pole_of_s2 -- --nocapture` prints all numbers.
+/// `cargo test --test methods pole_of_s2 -- --nocapture` prints all numbers.
 #[test]
 fn pole_of_s2_group_methods_accurate_coordinates_fail() {
     let (q, qd, x0, v0) = s2_pole_geodesic();
@@ -124,7 +124,7 @@ fn pole_of_s2_group_methods_accurate_coordinates_fail() {
 /// `x(t) = cosh t·x₀ + sinh t·v₀` passing 1e-6 R from the origin. Measured:
 /// group RKMK4 / Strang errors 5e-15 / 9e-16; coordinate RK4 stops at
 /// t = 0.99 with `OutsideChart`; coordinate DOPRI5 reaches 1.2e-10 with the
-/// step counts printed (`cargo test --test suite origin_of_h2 -- --nocapture`).
+/// step counts printed (`cargo test --test methods origin_of_h2 -- --nocapture`).
 #[test]
 fn origin_of_h2_group_methods_accurate_coordinates_fail() {
     let r0: f64 = 1.0;

@@ -1032,7 +1032,7 @@ fn stepper_changes_parameters_between_steps() {
 /// Indicative cost of the generic engine against a hand-specialised
 /// two-commutator RKMK4 step for the rigid body (same arithmetic, written
 /// out): prints ns/step. Timing-dependent, so ignored by default; run with
-/// `cargo test --test suite integrators::engine_cost -- --ignored --nocapture`.
+/// `cargo test --test methods integrators::engine_cost -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn engine_cost_against_hand_specialised_rk4() {

@@ -11,7 +11,7 @@
 //!
 //! To write the file anew (only for an intended change of the numbers, named
 //! in the commit message): `FRAMEDYN_BLESS_RECORDS=1 cargo test --workspace
-//! --test suite scenes_golden`.
+//! --test methods scenes_golden`.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;

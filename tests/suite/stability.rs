@@ -30,7 +30,7 @@ use nalgebra::{Matrix2, Vector2};
 /// kept state agrees with where it stopped. The failure keeps the
 /// partial solution: every accepted step, ending exactly at the error's `t`,
 /// with stop reason `Failed` carrying the same error. Measured numbers:
-/// `cargo test --test suite collapse_stops -- --nocapture`.
+/// `cargo test --test methods collapse_stops -- --nocapture`.
 #[test]
 fn collapse_stops_adaptive_dopri5_with_typed_error_and_keeps_partial_solution() {
     let s2 = Sphere2::new(1.0).unwrap();

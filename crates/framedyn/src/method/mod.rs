@@ -54,7 +54,7 @@
 //! bounded (measured in `tests/suite/splitting.rs`, `implicit.rs`). The
 //! costs in this table are counts from the implementations ([`StepCost`]
 //! reports them per step); the error ratios are those printed by
-//! `cargo test --test suite orders_on -- --nocapture` (gyroscopes and point
+//! `cargo test --test methods orders_on -- --nocapture` (gyroscopes and point
 //! on S², H², S³). A classical Runge–Kutta method in
 //! coordinates is also [`Rkmk`] on the additive group [`Rn`](crate::lie::Rn)
 //! (brackets vanish, `exp` is the identity).
