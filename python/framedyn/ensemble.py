@@ -260,7 +260,12 @@ def solve_table(
         g.attrs["columns"] = [c for c, _ in layout]
         g.attrs["units"] = [u for _, u in layout]
         g.attrs["table"] = names
-    base = client.scatter(scene, broadcast=True)
+    # A key of its own per call (hash=False): with the default content hash,
+    # every call on an equal scene scatters to the same key, and when the
+    # previous call's future is released while this call replicates it, the
+    # scheduler forgets the key and the chunks fail with "lost dependencies"
+    # (dask/distributed#8576, #4612; seen in this project's CI).
+    base = client.scatter(scene, broadcast=True, hash=False)
     futures = []
     for start in range(0, n, chunk_size):
         part = [c[start : start + chunk_size] for c in cols]

@@ -69,6 +69,40 @@ def test_columnar_ensemble_equals_solve_batch(client):
             assert np.array_equal(ens.stats[k], local.stats[k], equal_nan=True)
 
 
+def test_back_to_back_calls_on_an_equal_scene(client):
+    """Calls in quick succession on equal scenes: with the scene scattered
+    under its content hash, each call reused the previous call's key, and
+    when that call's future was released during the next call's
+    replication, the scheduler lost the key ("lost dependencies"; about one
+    call in 40 on this 2-core machine, so 100 calls fail most runs)."""
+    from framedyn.ensemble import solve_table
+
+    import threading
+
+    table = {"initial.r": np.linspace(0.2, 1.4, 4)}
+    local = fd.solve_batch(gyro_s2(t_end=0.1), table, keep="final")
+    # In a thread of its own: a lost key can also leave `gather` waiting
+    # forever, which must fail the test, not hang it.
+    done, failure = [], []
+
+    def calls():
+        try:
+            for _ in range(100):
+                ens = solve_table(gyro_s2(t_end=0.1), table, client=client, chunk_size=1, keep="final")
+                assert np.array_equal(ens.flat, local.flat)
+                done.append(1)
+        except BaseException as e:  # re-raised below, in the test's thread
+            failure.append(e)
+
+    worker = threading.Thread(target=calls, daemon=True)
+    worker.start()
+    worker.join(120)
+    assert not worker.is_alive(), f"solve_table did not return after {len(done)} calls"
+    if failure:
+        raise failure[0]
+    assert len(done) == 100
+
+
 def test_columnar_ensemble_into_a_zarr_store(client, tmp_path):
     zarr = pytest.importorskip("zarr")
     from framedyn.ensemble import StoredEnsemble, solve_table
