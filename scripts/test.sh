@@ -56,23 +56,16 @@ fi
 # script (docs/development.md, "The two commands").
 cargo test --workspace --tests --examples
 step "cargo test (build and run)"
-cargo test --workspace --doc
-step "doctests"
-# The examples compare what they measure with the paper's closed forms and
-# exit with status 1 on a mismatch. `cargo test` compiles them only as test
-# harnesses (no `main`); this builds the programs themselves (run below).
-examples=(transport_through_pole s2_bodies h2_bodies t2_bodies s3_bodies potential_families user_potential)
-target_dir="${CARGO_TARGET_DIR:-target}"
-cargo build --quiet --workspace "${examples[@]/#/--example=}"
-step "examples (build)"
-
 # maturin builds the extension crate alone; crates/framedyn-py/Cargo.toml
 # pins the features that the workspace build turns on, so that the core's
 # dependency graph is the same and only the extension crate is compiled.
 # If a dependency update breaks that, say so instead of silently doubling
 # the build time.
+target_dir="${CARGO_TARGET_DIR:-target}"
 stamp="$(mktemp)"
-trap 'rm -f "$stamp"' EXIT
+beside_log=""
+beside_pid=""
+trap 'rm -f "$stamp" "$beside_log"; if [ -n "$beside_pid" ]; then kill "$beside_pid" 2>/dev/null || true; fi' EXIT
 # The extension is an abi3 module (_framedyn.abi3.so); a version-specific
 # one left by a build before the switch would shadow it on import.
 rm -f python/framedyn/_framedyn.cpython-*.so
@@ -85,12 +78,40 @@ if [ -n "$(find "$target_dir/debug/deps" -maxdepth 1 -name 'libframedyn-*.rlib' 
 fi
 step "maturin develop"
 
-for example in "${examples[@]}"; do
-    echo "example $example"
-    "$target_dir/debug/examples/$example"
-done
-step "examples (run)"
+# The doctests and the seven checking examples (both cargo, after the last
+# build that pytest needs) run in the background, beside pytest, which needs
+# no cargo: pytest alone keeps one core busy. Their output is printed, and
+# their failure fails the script, when pytest has ended.
+# The examples compare what they measure with the paper's closed forms and
+# exit with status 1 on a mismatch. `cargo test` compiled them only as test
+# harnesses (no `main`); the programs themselves are built here.
+examples=(transport_through_pole s2_bodies h2_bodies t2_bodies s3_bodies potential_families user_potential)
+beside_log="$(mktemp)"
+(
+    set -e
+    beside_start=$SECONDS
+    cargo test --workspace --doc
+    echo "[test.sh] doctests (beside pytest): $((SECONDS - beside_start)) s"
+    cargo build --quiet --workspace "${examples[@]/#/--example=}"
+    for example in "${examples[@]}"; do
+        echo "example $example"
+        "$target_dir/debug/examples/$example"
+    done
+    echo "[test.sh] doctests and examples (beside pytest): $((SECONDS - beside_start)) s"
+) >"$beside_log" 2>&1 &
+beside_pid=$!
+
 # The Agg backend: the plotting tests draw without a display.
 MPLBACKEND=Agg "$PY" -m pytest python/tests -q
 step "pytest"
+
+beside_status=0
+wait "$beside_pid" || beside_status=$?
+beside_pid=""
+cat "$beside_log"
+if [ "$beside_status" -ne 0 ]; then
+    echo "the doctests or a checking example failed (exit status $beside_status): see above" >&2
+    exit "$beside_status"
+fi
+step "waiting for the doctests and examples"
 

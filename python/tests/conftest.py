@@ -18,6 +18,15 @@ settings.load_profile("random" if os.environ.get("FRAMEDYN_HYPOTHESIS_RANDOM") =
 import framedyn as fd  # noqa: E402
 
 
+def pytest_collection_finish(session):
+    """Starts test_stubs.py's mypy runs as soon as the tests are collected,
+    if any of its tests was selected (they then run beside the others)."""
+    for item in session.items:
+        if item.module.__name__.endswith("test_stubs") and hasattr(item.module, "start_checks"):
+            item.module.start_checks()
+            break
+
+
 def gyro_s2(**kw):
     """A gyroscope on the unit sphere under the cosine potential."""
     d = dict(

@@ -74,7 +74,7 @@ def test_back_to_back_calls_on_an_equal_scene(client):
     under its content hash, each call reused the previous call's key, and
     when that call's future was released during the next call's
     replication, the scheduler lost the key ("lost dependencies"; about one
-    call in 40 on this 2-core machine, so 100 calls fail most runs)."""
+    call in 40 on this 2-core machine; 60 calls failed in each of 3 runs)."""
     from framedyn.ensemble import solve_table
 
     import threading
@@ -87,7 +87,7 @@ def test_back_to_back_calls_on_an_equal_scene(client):
 
     def calls():
         try:
-            for _ in range(100):
+            for _ in range(60):
                 ens = solve_table(gyro_s2(t_end=0.1), table, client=client, chunk_size=1, keep="final")
                 assert np.array_equal(ens.flat, local.flat)
                 done.append(1)
@@ -100,7 +100,7 @@ def test_back_to_back_calls_on_an_equal_scene(client):
     assert not worker.is_alive(), f"solve_table did not return after {len(done)} calls"
     if failure:
         raise failure[0]
-    assert len(done) == 100
+    assert len(done) == 60
 
 
 def test_columnar_ensemble_into_a_zarr_store(client, tmp_path):

@@ -13,14 +13,37 @@ pytest.importorskip("mypy")
 PACKAGE = os.path.dirname(framedyn.__file__)
 
 
+# The two mypy runs take ~6 s each; `start_checks` (called by conftest.py
+# when collection ends, if a test below is selected) starts both as
+# subprocesses, so that they run beside the rest of the suite and the tests
+# below only wait for their results.
+_CHECKS = {
+    "stubtest": [sys.executable, "-m", "mypy.stubtest", "framedyn._framedyn"],
+    "mypy": [sys.executable, "-m", "mypy", "--no-incremental", PACKAGE],
+}
+_RUNNING: dict = {}
+
+
+def start_checks():
+    for name, cmd in _CHECKS.items():
+        if name not in _RUNNING:
+            _RUNNING[name] = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd=os.path.dirname(PACKAGE))
+
+
+def _result(name):
+    start_checks()
+    out, _ = _RUNNING[name].communicate()
+    return _RUNNING[name].returncode, out
+
+
 def test_stubtest_extension_module():
-    out = subprocess.run([sys.executable, "-m", "mypy.stubtest", "framedyn._framedyn"], capture_output=True, text=True, cwd=os.path.dirname(PACKAGE))
-    assert out.returncode == 0, out.stdout + out.stderr
+    code, out = _result("stubtest")
+    assert code == 0, out
 
 
 def test_package_typechecks():
-    out = subprocess.run([sys.executable, "-m", "mypy", "--no-incremental", PACKAGE], capture_output=True, text=True, cwd=os.path.dirname(PACKAGE))
-    assert out.returncode == 0, out.stdout + out.stderr
+    code, out = _result("mypy")
+    assert code == 0, out
 
 
 def test_py_typed_and_exports():
