@@ -69,11 +69,7 @@ pub struct TangentArgs {
 impl TangentArgs {
     /// The linearisation of the step map these options ask for.
     fn linearisation(&self) -> Linearisation {
-        let mut l = if self.fourth_order { Linearisation::fourth_order() } else { Linearisation::default() };
-        if let Some(eps) = self.eps {
-            l.eps = eps;
-        }
-        l
+        Linearisation::chosen(self.fourth_order, self.eps)
     }
 }
 

@@ -66,12 +66,7 @@ pub fn lyapunov<'py>(
         opts.transient = transient;
         opts.batches = batches;
         opts.seed = seed;
-        if fourth_order {
-            opts.linearisation = Linearisation::fourth_order();
-        }
-        if let Some(eps) = eps {
-            opts.linearisation.eps = eps;
-        }
+        opts.linearisation = Linearisation::chosen(fourth_order, eps);
         let e = scene.lyapunov(&opts, cancel)?;
         let two = if two_trajectory {
             let mut o = scene.two_trajectory_options()?;
@@ -138,12 +133,7 @@ pub fn sali(py: Python<'_>, scene: &PyScene, threshold: f64, seed: u64, eps: Opt
         let mut opts = scene.sali_options()?;
         opts.threshold = threshold;
         opts.seed = seed;
-        if fourth_order {
-            opts.linearisation = Linearisation::fourth_order();
-        }
-        if let Some(eps) = eps {
-            opts.linearisation.eps = eps;
-        }
+        opts.linearisation = Linearisation::chosen(fourth_order, eps);
         scene.sali(&opts, cancel)
     })?;
     Ok((e.sali, e.chaotic_at, e.min, e.steps))
@@ -158,12 +148,7 @@ pub fn megno<'py>(py: Python<'py>, scene: &PyScene, seed: u64, eps: Option<f64>,
     let e = run_interruptibly(py, move |cancel| {
         let mut opts = scene.megno_options()?;
         opts.seed = seed;
-        if fourth_order {
-            opts.linearisation = Linearisation::fourth_order();
-        }
-        if let Some(eps) = eps {
-            opts.linearisation.eps = eps;
-        }
+        opts.linearisation = Linearisation::chosen(fourth_order, eps);
         scene.megno(&opts, cancel)
     })?;
     let d = PyDict::new(py);
@@ -202,10 +187,7 @@ pub fn chaos_map<'py>(
     oversubscribe: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let table = crate::ensemble::table(py, names, &columns)?;
-    let mut linearisation = if fourth_order { Linearisation::fourth_order() } else { Linearisation::default() };
-    if let Some(eps) = eps {
-        linearisation.eps = eps;
-    }
+    let linearisation = Linearisation::chosen(fourth_order, eps);
     let opts = ChaosMapOptions { sali, megno, threshold, seed, linearisation, threads, oversubscribe };
     let base = scene.inner.clone();
     let m = run_interruptibly(py, move |cancel| Ok(map_core(&base, &table, &opts, cancel)?))?;

@@ -62,12 +62,7 @@ impl LyapunovOptions {
 }
 
 fn check_common(h: f64, duration: f64, transient: f64, every: usize, batches: usize) -> Result<(), AnalysisError> {
-    if !(h.is_finite() && h > 0.0) {
-        return Err(AnalysisError::invalid("h", h, "finite and > 0"));
-    }
-    if !(duration.is_finite() && duration > 0.0) {
-        return Err(AnalysisError::invalid("duration", duration, "finite and > 0"));
-    }
+    super::check_span(h, duration)?;
     if !(transient.is_finite() && transient >= 0.0 && transient < duration) {
         return Err(AnalysisError::invalid("transient", transient, format!("finite, ≥ 0 and < duration = {duration}")));
     }
@@ -83,11 +78,7 @@ fn check_common(h: f64, duration: f64, transient: f64, every: usize, batches: us
 /// The number of steps, checked to leave at least one re-orthonormalisation
 /// per batch after the transient.
 fn count(h: f64, duration: f64, transient: f64, every: usize, batches: usize) -> Result<usize, AnalysisError> {
-    let n = (duration / h).round().max(1.0);
-    if n > 1e9 {
-        return Err(AnalysisError::invalid("h", h, format!("≥ duration/1e9 = {:e} (at most 1e9 steps)", duration / 1e9)));
-    }
-    let n = n as usize;
+    let n = super::step_count(h, duration)?;
     // After a transient, the first re-orthonormalisation past it starts the averages.
     let averaged = (((duration - transient) / h).floor() as usize / every).saturating_sub(usize::from(transient > 0.0));
     if averaged < batches {
@@ -251,12 +242,7 @@ where
 {
     let dof = S::State::DOF;
     let n = opts.steps(dof)?;
-    if !t0.is_finite() {
-        return Err(AnalysisError::invalid("t0", t0, "finite"));
-    }
-    if !crate::solve::state_is_finite(y0) {
-        return Err(AnalysisError::Solve(crate::solve::SolveError::InvalidInitialState { defect: y0.constraint_defect() }));
-    }
+    super::check_start(t0, y0)?;
     let h = opts.duration / n as f64;
     let mut cols = random_frame(dof, opts.exponents, opts.seed);
     let mut y = *y0;
@@ -350,12 +336,7 @@ where
         return Err(AnalysisError::invalid("separation", opts.separation, "finite, > 0 and ≤ 1e-3"));
     }
     let n = count(opts.h, opts.duration, opts.transient, opts.renormalise_every, opts.batches)?;
-    if !t0.is_finite() {
-        return Err(AnalysisError::invalid("t0", t0, "finite"));
-    }
-    if !crate::solve::state_is_finite(y0) {
-        return Err(AnalysisError::Solve(crate::solve::SolveError::InvalidInitialState { defect: y0.constraint_defect() }));
-    }
+    super::check_start(t0, y0)?;
     let dof = S::State::DOF;
     let d0 = opts.separation;
     let h = opts.duration / n as f64;

@@ -86,24 +86,10 @@ where
     S::State: GroupNumerics,
     M: Method<S>,
 {
-    if !(opts.h.is_finite() && opts.h > 0.0) {
-        return Err(AnalysisError::invalid("h", opts.h, "finite and > 0"));
-    }
-    if !(opts.duration.is_finite() && opts.duration > 0.0) {
-        return Err(AnalysisError::invalid("duration", opts.duration, "finite and > 0"));
-    }
+    super::check_span(opts.h, opts.duration)?;
     opts.linearisation.validate()?;
-    if !t0.is_finite() {
-        return Err(AnalysisError::invalid("t0", t0, "finite"));
-    }
-    if !crate::solve::state_is_finite(y0) {
-        return Err(AnalysisError::Solve(crate::solve::SolveError::InvalidInitialState { defect: y0.constraint_defect() }));
-    }
-    let n = (opts.duration / opts.h).round().max(1.0);
-    if n > 1e9 {
-        return Err(AnalysisError::invalid("h", opts.h, format!("≥ duration/1e9 = {:e} (at most 1e9 steps)", opts.duration / 1e9)));
-    }
-    let n = n as usize;
+    super::check_start(t0, y0)?;
+    let n = super::step_count(opts.h, opts.duration)?;
     let h = opts.duration / n as f64;
     let mut col = super::lyapunov::random_frame(S::State::DOF, 1, opts.seed);
     let stride = super::lyapunov::history_stride(n, 1);

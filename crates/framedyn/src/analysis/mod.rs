@@ -68,3 +68,38 @@ pub use megno::{megno, MegnoEstimate, MegnoOptions};
 pub use sali::{sali, SaliEstimate, SaliOptions};
 pub use tangent::{flow_derivative, Difference, Linearisation, TangentFlow};
 
+use crate::method::GroupNumerics;
+
+/// Checks the step `h` and the `duration` of a fixed-step analysis (both
+/// finite and > 0).
+fn check_span(h: f64, duration: f64) -> Result<(), AnalysisError> {
+    if !(h.is_finite() && h > 0.0) {
+        return Err(AnalysisError::invalid("h", h, "finite and > 0"));
+    }
+    if !(duration.is_finite() && duration > 0.0) {
+        return Err(AnalysisError::invalid("duration", duration, "finite and > 0"));
+    }
+    Ok(())
+}
+
+/// The number of steps of a fixed-step analysis, `round(duration/h)`, at
+/// least 1 and at most 1e9 (`h` and `duration` checked by [`check_span`]).
+fn step_count(h: f64, duration: f64) -> Result<usize, AnalysisError> {
+    let n = (duration / h).round().max(1.0);
+    if n > 1e9 {
+        return Err(AnalysisError::invalid("h", h, format!("≥ duration/1e9 = {:e} (at most 1e9 steps)", duration / 1e9)));
+    }
+    Ok(n as usize)
+}
+
+/// Checks the start of an analysis: `t0` finite, `y0` a finite state.
+fn check_start<G: GroupNumerics>(t0: f64, y0: &G) -> Result<(), AnalysisError> {
+    if !t0.is_finite() {
+        return Err(AnalysisError::invalid("t0", t0, "finite"));
+    }
+    if !crate::solve::state_is_finite(y0) {
+        return Err(AnalysisError::Solve(crate::solve::SolveError::InvalidInitialState { defect: y0.constraint_defect() }));
+    }
+    Ok(())
+}
+

@@ -68,31 +68,17 @@ where
     S::State: GroupNumerics,
     M: Method<S>,
 {
-    if !(opts.h.is_finite() && opts.h > 0.0) {
-        return Err(AnalysisError::invalid("h", opts.h, "finite and > 0"));
-    }
-    if !(opts.duration.is_finite() && opts.duration > 0.0) {
-        return Err(AnalysisError::invalid("duration", opts.duration, "finite and > 0"));
-    }
+    super::check_span(opts.h, opts.duration)?;
     if !(opts.threshold > 0.0 && opts.threshold < 1.0) {
         return Err(AnalysisError::invalid("threshold", opts.threshold, "between 0 and 1 (exclusive)"));
     }
     opts.linearisation.validate()?;
-    if !t0.is_finite() {
-        return Err(AnalysisError::invalid("t0", t0, "finite"));
-    }
-    if !crate::solve::state_is_finite(y0) {
-        return Err(AnalysisError::Solve(crate::solve::SolveError::InvalidInitialState { defect: y0.constraint_defect() }));
-    }
+    super::check_start(t0, y0)?;
     let dof = S::State::DOF;
     if dof < 2 {
         return Err(AnalysisError::invalid("state", format!("a {dof}-dimensional state group"), "at least 2 dimensions"));
     }
-    let n = (opts.duration / opts.h).round().max(1.0);
-    if n > 1e9 {
-        return Err(AnalysisError::invalid("h", opts.h, "≥ duration/1e9 (at most 1e9 steps)"));
-    }
-    let n = n as usize;
+    let n = super::step_count(opts.h, opts.duration)?;
     let h = opts.duration / n as f64;
     // Column 0: u₁; column 1: the direction of d = u₁ − u₂, |d| = `index`
     // (see `Pair`). Two random orthonormal vectors: |d| = √2.

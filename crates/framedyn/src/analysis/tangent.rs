@@ -46,6 +46,18 @@ impl Linearisation {
         Linearisation { difference: Difference::Central4, eps: 1e-3 }
     }
 
+    /// [`fourth_order`](Self::fourth_order) if `fourth_order`, else the
+    /// default, with `ε = eps` if given (the options `--fourth-order` and
+    /// `--eps` of the CLI, `fourth_order` and `eps` of the Python functions;
+    /// checked by [`validate`](Self::validate) where it is used).
+    pub fn chosen(fourth_order: bool, eps: Option<f64>) -> Self {
+        let mut l = if fourth_order { Linearisation::fourth_order() } else { Linearisation::default() };
+        if let Some(eps) = eps {
+            l.eps = eps;
+        }
+        l
+    }
+
     /// Checks `ε`.
     pub fn validate(&self) -> Result<(), AnalysisError> {
         if !(self.eps.is_finite() && self.eps > 0.0 && self.eps <= 0.1) {
@@ -134,12 +146,7 @@ where
     /// algebra coordinates of `ξ` in `δy = y·ξ`; any number of columns).
     pub fn new(system: &'a S, method: &'a M, t0: f64, y0: S::State, cols: DMatrix<f64>, lin: Linearisation) -> Result<Self, AnalysisError> {
         lin.validate()?;
-        if !t0.is_finite() {
-            return Err(AnalysisError::invalid("t0", t0, "finite"));
-        }
-        if !crate::solve::state_is_finite(&y0) {
-            return Err(AnalysisError::Solve(crate::solve::SolveError::InvalidInitialState { defect: y0.constraint_defect() }));
-        }
+        super::check_start(t0, &y0)?;
         if cols.nrows() != S::State::DOF {
             return Err(AnalysisError::invalid("columns", format!("{} rows", cols.nrows()), format!("{} rows (the state group's dimension)", S::State::DOF)));
         }
