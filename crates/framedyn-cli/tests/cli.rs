@@ -778,35 +778,9 @@ fn lyapunov_and_section_refuse_bad_input() {
     assert!(stderr(&o).contains("method.h"), "{}", stderr(&o));
 }
 
-/// The S² gyroscope of the atlas's tilted map (docs/integrability.md):
-/// α̂cos² + β̂cos about the pole plus 0.6·cos about e₀, a chaotic orbit.
-const TILTED_GYROSCOPE: &str = r#"
-[manifold]
-kind = "S2"
-[body]
-kind = "gyroscope"
-mass = 1.0
-inertia = 0.3
-[potential]
-kind = "sum"
-[[potential.terms]]
-kind = "cosine"
-alpha_hat = 0.5
-beta_hat = -0.4
-[[potential.terms]]
-kind = "cosine"
-beta_hat = 0.6
-centre = [1.0, 0.0, 0.0]
-[initial]
-position = [-0.9781467351960749, 0.0, -0.20791576281095117]
-velocity = [-0.1975199746704036, 1.4358671622268089, 0.9292393984362711]
-spin = 0.6
-[method]
-name = "rk4"
-h = 0.01
-[time]
-t_end = 300.0
-"#;
+/// The S² gyroscope of the atlas's tilted map (docs/integrability.md), a
+/// chaotic orbit; the Python tests read the same file.
+const TILTED_GYROSCOPE: &str = include_str!("../../../tests/data/tilted_gyroscope.toml");
 
 /// `sali` calls the tilted gyroscope chaotic at the time the library's
 /// `Scene::sali` finds, and the Kepler orbit regular; bad settings exit 2
