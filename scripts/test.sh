@@ -50,10 +50,10 @@ fi
 # library that has tests (the CLI's; the core, the extension and
 # framedyn-tests have none, `test = false`), the integration tests and the
 # examples (compiled as test harnesses: a compile check). `--all-targets`
-# also compiled those three empty library harnesses and the criterion
-# bench, about 90 s of CPU time on a fresh clone; the bench harness and the
-# API docs are checked by scripts/check_more.sh, which CI runs after this
-# script (docs/development.md, "The two commands").
+# would also compile those three empty library harnesses and the criterion
+# bench; the bench harness and the API docs are checked by
+# scripts/check_more.sh, which CI runs after this script (docs/development.md,
+# "The two commands", has what each costs).
 cargo test --workspace --tests --examples
 step "cargo test (build and run)"
 # maturin builds the extension crate alone; crates/framedyn-py/Cargo.toml

@@ -264,7 +264,7 @@ def solve_table(
     # every call on an equal scene scatters to the same key, and when the
     # previous call's future is released while this call replicates it, the
     # scheduler forgets the key and the chunks fail with "lost dependencies"
-    # (dask/distributed#8576, #4612; seen in this project's CI).
+    # (dask/distributed#8576, #4612).
     base = client.scatter(scene, broadcast=True, hash=False)
     futures = []
     for start in range(0, n, chunk_size):

@@ -71,10 +71,10 @@ def test_columnar_ensemble_equals_solve_batch(client):
 
 def test_back_to_back_calls_on_an_equal_scene(client):
     """Calls in quick succession on equal scenes: with the scene scattered
-    under its content hash, each call reused the previous call's key, and
-    when that call's future was released during the next call's
-    replication, the scheduler lost the key ("lost dependencies"; about one
-    call in 40 on this 2-core machine; 60 calls failed in each of 3 runs)."""
+    under its content hash, each call reuses the previous call's key, and
+    when that call's future is released during the next call's replication,
+    the scheduler loses the key ("lost dependencies"); 60 calls make that
+    likely."""
     from framedyn.ensemble import solve_table
 
     import threading

@@ -13,7 +13,7 @@ pytest.importorskip("mypy")
 PACKAGE = os.path.dirname(framedyn.__file__)
 
 
-# The two mypy runs take ~6 s each; `start_checks` (called by conftest.py
+# The two mypy runs are among the slowest tests; `start_checks` (called by conftest.py
 # when collection ends, if a test below is selected) starts both as
 # subprocesses, so that they run beside the rest of the suite and the tests
 # below only wait for their results.
