@@ -131,6 +131,8 @@ def test_megno_regular_and_chaotic_scenes():
     kepler = fd.Scene.example("s2-point-kepler")
     with pytest.raises(ValueError, match="eps"):
         fd.megno(kepler, eps=0.5)
+    with pytest.raises(ValueError, match="eps"):  # subnormal: no perturbation left
+        fd.megno(kepler, eps=1e-320)
     with pytest.raises(fd.InvalidInputError, match="seed"):
         fd.megno(kepler, seed=-1)
     with pytest.raises(TypeError):

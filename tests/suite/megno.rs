@@ -66,7 +66,10 @@ fn bad_megno_options_are_refused() {
     assert_eq!(field(run(MegnoOptions::new(0.01, 0.0))), ("duration", "finite and > 0".to_string()));
     assert_eq!(field(run(MegnoOptions::new(1e-12, 1.0))).0, "h"); // more than 1e9 steps
     let lin = Linearisation { eps: 0.5, ..Linearisation::default() };
-    assert_eq!(field(run(MegnoOptions { linearisation: lin, ..MegnoOptions::new(0.01, 1.0) })), ("eps", "finite, > 0 and ≤ 0.1".to_string()));
+    assert_eq!(field(run(MegnoOptions { linearisation: lin, ..MegnoOptions::new(0.01, 1.0) })), ("eps", "finite, ≥ 1e-12 and ≤ 0.1".to_string()));
+    // A subnormal ε would perturb nothing (0/0 in the difference quotient).
+    let tiny = Linearisation { eps: 1e-320, ..Linearisation::default() };
+    assert_eq!(field(run(MegnoOptions { linearisation: tiny, ..MegnoOptions::new(0.01, 1.0) })).0, "eps");
     assert_eq!(field(megno(&sys, &m, f64::INFINITY, &y0, &MegnoOptions::new(0.01, 1.0), None).unwrap_err()).0, "t0");
     let stop = AtomicBool::new(true);
     assert!(matches!(megno(&sys, &m, 0.0, &y0, &MegnoOptions::new(0.01, 1.0), Some(&stop)), Err(AnalysisError::Cancelled { .. })));

@@ -847,7 +847,7 @@ fn megno_prints_the_library_values_and_writes_the_running_values() {
     s.method.rtol = Some(1e-8);
     fs::write(&adaptive, s.to_toml_string()).unwrap();
     for (args, needle, exit) in [
-        (&["megno", "s2-point-kepler", "--eps", "1"][..], "invalid --eps = 1: must be finite, > 0 and ≤ 0.1", 2),
+        (&["megno", "s2-point-kepler", "--eps", "1"][..], "invalid --eps = 1: must be finite, ≥ 1e-12 and ≤ 0.1", 2),
         (&["megno", "s2-point-kepler", "--eps=-1e-5"][..], "invalid --eps = -0.00001", 2),
         (&["megno", "s2-point-kepler", "--seed", "x"][..], "--seed", 2),
         (&["megno", adaptive.to_str().unwrap()][..], "method.h", 3),

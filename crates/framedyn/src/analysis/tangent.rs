@@ -27,7 +27,7 @@ pub enum Difference {
 pub struct Linearisation {
     /// The difference formula.
     pub difference: Difference,
-    /// The perturbation size, `0 < ε ≤ 0.1`.
+    /// The perturbation size, [`MIN_EPS`](Self::MIN_EPS) `≤ ε ≤ 0.1`.
     pub eps: f64,
 }
 
@@ -40,6 +40,12 @@ impl Default for Linearisation {
 }
 
 impl Linearisation {
+    /// The smallest `ε` accepted. A central difference's round-off is about
+    /// `1e-16/ε` relative, so below `1e-12` the derivative has fewer than four
+    /// correct digits, and at a subnormal `ε` the perturbation is lost
+    /// entirely (the perturbed steps equal the unperturbed one).
+    pub const MIN_EPS: f64 = 1e-12;
+
     /// Fourth-order central differences with `ε = 1e-3` (about `1e-12`
     /// relative per step, twice the cost of the default).
     pub fn fourth_order() -> Self {
@@ -60,8 +66,8 @@ impl Linearisation {
 
     /// Checks `ε`.
     pub fn validate(&self) -> Result<(), AnalysisError> {
-        if !(self.eps.is_finite() && self.eps > 0.0 && self.eps <= 0.1) {
-            return Err(AnalysisError::invalid("eps", self.eps, "finite, > 0 and ≤ 0.1"));
+        if !(self.eps.is_finite() && self.eps >= Self::MIN_EPS && self.eps <= 0.1) {
+            return Err(AnalysisError::invalid("eps", self.eps, "finite, ≥ 1e-12 and ≤ 0.1"));
         }
         Ok(())
     }
