@@ -167,3 +167,17 @@ def test_tolerances_out_of_range_name_the_field(rtol, atol, field):
     scene = fd.Scene.example("s2-gyroscope-pole")
     with pytest.raises(ValueError, match=field.replace(".", r"\.")):
         fd.solve(scene.replace(method={"name": "dop853", "rtol": rtol, "atol": atol}))
+
+
+def test_extreme_values_are_shown_in_scientific_notation():
+    """An error message quotes 1e-300 as 1e-300, not as 300 decimals."""
+    scene = fd.Scene.example("s2-point-kepler")
+    cases = [
+        (lambda: fd.solve(scene.replace(method={"name": "dop853", "rtol": 1e-300, "atol": 1e-300})), "`method.rtol` = 1e-300"),
+        (lambda: fd.solve(scene.replace(method={"name": "rk4", "h": 1e-320})), "`method.h` = 1e-320"),
+        (lambda: fd.sali(scene, threshold=1e300), "threshold = 1e300"),
+    ]
+    for call, shown in cases:
+        with pytest.raises(ValueError) as info:
+            call()
+        assert shown in str(info.value) and len(str(info.value)) < 250, str(info.value)

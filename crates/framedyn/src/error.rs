@@ -10,7 +10,7 @@ use thiserror::Error;
 #[non_exhaustive]
 pub enum Error {
     /// A scalar parameter lies outside its allowed range (or is not finite).
-    #[error("invalid {field} = {value}: must be {allowed}")]
+    #[error("invalid {field} = {}: must be {allowed}", Num(*value))]
     InvalidParameter {
         /// Name of the parameter, e.g. `"R"` or `"L"`.
         field: &'static str,
@@ -65,6 +65,36 @@ pub enum Error {
         /// Last residual.
         residual: f64,
     },
+}
+
+/// A number as an error message shows it: Rust's shortest round-trip text
+/// where that is short, scientific notation where it is not (`{}` writes
+/// `1e-300` as a 0 followed by 300 digits).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Num(pub f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let v = self.0;
+        if v == 0.0 || !v.is_finite() || (1e-5..1e16).contains(&v.abs()) {
+            write!(f, "{v}")
+        } else {
+            write!(f, "{v:e}")
+        }
+    }
+}
+
+/// `text` (a value as written into an error message), with a long decimal
+/// number rewritten in scientific notation (see [`Num`]); other text as is.
+pub(crate) fn tidy_value(text: String) -> String {
+    if text.len() > 20 {
+        if let Ok(v) = text.parse::<f64>() {
+            if v.is_finite() {
+                return Num(v).to_string();
+            }
+        }
+    }
+    text
 }
 
 /// `Result` with the crate's [`enum@Error`].

@@ -44,6 +44,6 @@ pub enum AnalysisError {
 impl AnalysisError {
     /// An [`AnalysisError::InvalidParameter`].
     pub fn invalid(field: &'static str, value: impl std::fmt::Display, allowed: impl Into<String>) -> Self {
-        AnalysisError::InvalidParameter { field, value: value.to_string(), allowed: allowed.into() }
+        AnalysisError::InvalidParameter { field, value: crate::error::tidy_value(value.to_string()), allowed: allowed.into() }
     }
 }

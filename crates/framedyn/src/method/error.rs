@@ -8,7 +8,7 @@ use thiserror::Error;
 #[non_exhaustive]
 pub enum MethodError {
     /// A method parameter outside its range.
-    #[error("invalid {field} = {value}: must be {allowed}")]
+    #[error("invalid {field} = {}: must be {allowed}", crate::error::Num(*value))]
     InvalidParameter {
         /// The parameter, e.g. `"newton_tol"`.
         field: &'static str,

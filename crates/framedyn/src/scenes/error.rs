@@ -93,7 +93,7 @@ impl SceneError {
     }
 
     pub(crate) fn invalid(path: impl Into<String>, value: impl fmt::Display, allowed: impl Into<String>) -> Self {
-        SceneError::Invalid { path: path.into(), value: value.to_string(), allowed: allowed.into(), location: None }
+        SceneError::Invalid { path: path.into(), value: crate::error::tidy_value(value.to_string()), allowed: allowed.into(), location: None }
     }
 
     /// A core-library error raised while building the part of the scene at `path`.

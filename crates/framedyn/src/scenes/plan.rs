@@ -10,7 +10,7 @@ use super::sink::Column;
 use super::spec::*;
 use crate::method::registry::{self, Built, MethodEntry, MethodParams};
 use crate::method::MethodError;
-use crate::solve::{fixed_step_count, Adaptive, Event, Save, Settings, StepSize, Tol, RTOL_MIN};
+use crate::solve::{fixed_step_count, Adaptive, Event, Save, Settings, SolveError, StepSize, Tol, RTOL_MIN};
 
 /// Default limit on accepted steps of a scene run.
 pub const DEFAULT_SCENE_MAX_STEPS: u64 = 1_000_000_000;
@@ -139,7 +139,13 @@ impl Scene {
         }
         if let StepSize::Fixed(h) = &step {
             let n = fixed_step_count(t.t0, t.t_end, *h)
-                .map_err(|e| SceneError::invalid("method.h", h, e.to_string()).with_note(&format!("time.t0 = {:?}, time.t_end = {:?}", t.t0, t.t_end)))?;
+                .map_err(|e| {
+                    let allowed = match e {
+                        SolveError::InvalidParameter { allowed, .. } => format!("must be {allowed}"),
+                        other => other.to_string(),
+                    };
+                    SceneError::invalid("method.h", h, allowed).with_note(&format!("time.t0 = {:?}, time.t_end = {:?}", t.t0, t.t_end))
+                })?;
             if n as u64 > max_steps {
                 return Err(SceneError::invalid(
                     "method.h",

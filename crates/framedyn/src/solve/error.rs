@@ -12,7 +12,7 @@ use crate::method::NonFiniteSource;
 #[non_exhaustive]
 pub enum SolveError {
     /// A scalar input lies outside its allowed range (or is not finite).
-    #[error("invalid {field} = {value}: must be {allowed}")]
+    #[error("invalid {field} = {}: must be {allowed}", crate::error::Num(*value))]
     InvalidParameter {
         /// Name of the input, e.g. `"t_end"`.
         field: &'static str,
