@@ -140,6 +140,16 @@ class Section:
             raise InvalidInputError(f"invalid column {name!r}: not a column of this section; columns: {', '.join(self.columns)}") from None
         return self.data[:, j]
 
+    def __getitem__(self, name: str) -> np.ndarray:
+        """``section["r"]``: :meth:`column`, indexed like a :class:`Solution`
+        (a missing name is a ``KeyError``, as there)."""
+        if name not in self.columns:
+            raise KeyError(f"no column {name!r}; columns: {', '.join(self.columns)}")
+        return self.column(name)
+
+    def __contains__(self, name: object) -> bool:
+        return name in self.columns
+
     @property
     def t(self) -> np.ndarray:
         """The crossing times."""

@@ -46,6 +46,9 @@ def test_section_arrays_and_columns():
     assert len(s) >= 2 and s.data.shape == (len(s), len(s.columns))
     assert s.columns[0] == "t" and s.units[0] == "T"
     assert np.allclose(s.column("r"), 0.5, atol=1e-9)
+    assert np.array_equal(s["r"], s.column("r")) and "r" in s and "nope" not in s  # indexed like a Solution
+    with pytest.raises(KeyError, match="nope"):
+        s["nope"]
     assert not s.rising.any()
     assert np.array_equal(s.t, s.data[:, 0])
     same = fd.section(scene, {"kind": "column", "column": "r", "value": 0.5, "direction": "falling"})
