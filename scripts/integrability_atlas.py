@@ -2,7 +2,7 @@
 """Integrability, measured (issue 21): the maximal Lyapunov exponent of the
 paper's models, its growth law over a decade of time, the two-trajectory
 check, and the cost of carrying tangent vectors; SALI maps over initial
-conditions and Poincaré sections.
+conditions and over parameters, and Poincaré sections.
 
 The table. For each case (an embedded scene, possibly modified, run over
 T = 200 or 100 with its own method and fixed step) it records the maximal
@@ -26,7 +26,13 @@ v_θ along it), in the separable α̂cos² + β̂cos potential and with a tilt
 initial r₁ × the scale s of its initial angular velocity. A point is
 "chaotic" when SALI fell below 1e-8 within T, "regular" when it ended at
 or above 1e-4, else "undecided"; MEGNO calls it chaotic when ⟨Y⟩(T) > 4
-(→ 2 on a quasi-periodic orbit). The floor check: the smallest
+(→ 2 on a quasi-periodic orbit). The maps over parameters, one
+fd.chaos_map call each with the parameter a column of the member table
+beside the initial values: the affine body's inertia J(δ) = 0.1·1 +
+δ·(J₁ − 0.1·1) from the isotropic (δ = 0) to the general J₁ of the map
+above (δ = 1) × initial deformation a (`body.J.I.J`), and the gyroscope's
+tilt ε × θ at v_θ = 0 (`potential.terms.1.beta_hat`), with the classes per
+parameter value, and the smallest parameters again at T = 2000. The floor check: the smallest
 SALI that chaotic orbits reach with no threshold, for two perturbations ε
 and both difference formulas (until 145caef SALI stopped at a floor
 proportional to 1/ε there; --floor-scenes DIR writes these orbits as scene
@@ -37,12 +43,15 @@ V = r²/2) and of the gyroscope (separable, tilted).
 Writes docs/data/integrability_atlas.csv, integrability_cost.csv,
 integrability_map_s2_affine.csv, integrability_map_s2_gyroscope.csv,
 integrability_map_s3_gyroscope.csv, integrability_maps.csv, integrability_sali_floor.csv,
-integrability_sections.csv and docs/figures/integrability_*.png, and prints
+integrability_sections.csv, integrability_params_s2_affine.csv,
+integrability_params_s2_gyroscope.csv, integrability_params_summary.csv,
+integrability_params_long.csv and docs/figures/integrability_*.png, and prints
 the tables as Markdown (docs/integrability.md quotes them). Run:
     .venv/bin/python scripts/integrability_atlas.py               # all
     .venv/bin/python scripts/integrability_atlas.py --maps-only   # maps, sections, floor
     .venv/bin/python scripts/integrability_atlas.py --grids-only  # the SALI/MEGNO maps only
     .venv/bin/python scripts/integrability_atlas.py --table-only  # table and cost
+    .venv/bin/python scripts/integrability_atlas.py --params-only # the maps over parameters only
     .venv/bin/python scripts/integrability_atlas.py --quick       # small grids, into out/integrability_quick/
     .venv/bin/python scripts/integrability_atlas.py --floor-only  # the SALI floor check only
     .venv/bin/python scripts/integrability_atlas.py --floor-scenes DIR  # its orbits as scenes (JSON)
@@ -551,6 +560,324 @@ def plot_map(model, variants, ps, qs, rows, names, summary, figures):
     plt.close(fig)
 
 
+# ------------------------------------------------------ maps over parameters
+
+# The affine body's inertia along the straight line from the isotropic J of
+# map (a) to its general J: J(δ) = J₀ + δ·(J₁ − J₀), J₀ = 0.1·1 (δ = 0, the
+# isotropic body), J₁ = GENERAL_J (δ = 1); positive definite up to δ ≈ 1.9.
+# Against the initial deformation a at the fixed rate s = PARAM_AFFINE_S
+# (the row of map (a) with chaos at a ≥ 1 and none below), other initial
+# values those of map (a).
+ISOTROPIC_J = 0.1 * np.eye(2)
+PARAM_AFFINE_S = 2.0
+
+
+def affine_j(delta):
+    return ISOTROPIC_J + delta * (np.array(GENERAL_J) - ISOTROPIC_J)
+
+
+def param_grids(quick):
+    """(model, parameter name, parameter values, initial-condition name, its
+    values, T, step): the parameter on the horizontal axis, p below, one
+    initial-condition coordinate q on the vertical one."""
+    if quick:
+        delta, a, t_aff = np.linspace(0.0, 1.2, 4), np.linspace(0.0, 1.5, 4), 300.0
+        eps, th, t_gyro = np.linspace(0.0, 1.2, 4), centres(-math.pi, math.pi, 8), 300.0
+    else:
+        delta, a, t_aff = np.arange(25) * 0.05, np.arange(13) * 0.125, 500.0
+        eps, th, t_gyro = np.arange(25) * 0.05, centres(-math.pi, math.pi, 36), 500.0
+    return [
+        ("s2_affine", "delta", delta, "a", a, t_aff, AFFINE_H),
+        ("s2_gyroscope", "eps", eps, "theta", th, t_gyro, GYRO_H),
+    ]
+
+
+def param_members(model, ps, qs, t_end):
+    """The base scene of a parameter map and its member table (p fastest):
+    (scene, table, p of each member, q of each member, number of points the
+    energy forbids). The parameter is a table column like the initial
+    values: `body.J.I.J` for the affine body, `potential.terms.1.beta_hat`
+    (the tilt ε) for the gyroscope."""
+    pp, qq = [float(p) for q in qs for p in ps], [float(q) for q in qs for p in ps]
+    if model == "s2_affine":
+        base = affine_scene(0.0, PARAM_AFFINE_S, True, t_end)
+        rho = [np.eye(2) + q * AFFINE_D for q in qq]
+        js = [affine_j(p) for p in pp]
+        table = {f"initial.rho.{i}.{j}": np.array([m[i, j] for m in rho]) for i in range(2) for j in range(2)}
+        table.update({f"body.J.{i}.{j}": np.array([m[i, j] for m in js]) for i in range(2) for j in range(2)})
+        return base, table, np.array(pp), np.array(qq), 0
+    # The tilt term is in the base scene (gyro_scene adds it for ε ≠ 0), so
+    # that its beta_hat can be a column; at ε = 0 it adds 0·x to V.
+    allowed = [(p, q, gyro_initial(p, q, 0.0)) for p, q in zip(pp, qq)]
+    kept = [(p, q, xv) for p, q, xv in allowed if xv is not None]
+    base = gyro_scene(GYRO_EPS, kept[0][1], 0.0, t_end)
+    table = {"potential.terms.1.beta_hat": np.array([p for p, _, _ in kept])}
+    table.update({f"initial.position.{k}": np.array([xv[0][k] for _, _, xv in kept]) for k in range(3)})
+    table.update({f"initial.velocity.{k}": np.array([xv[1][k] for _, _, xv in kept]) for k in range(3)})
+    return base, table, np.array([p for p, _, _ in kept]), np.array([q for _, q, _ in kept]), len(allowed) - len(kept)
+
+
+def param_maps(quick, data, figures):
+    """One fd.chaos_map call per map, the parameter a column of the member
+    table; per-member rows in integrability_params_<model>.csv, the classes
+    per parameter value in integrability_params_summary.csv."""
+    summary = []
+    for model, pn, ps, qn, qs, t_end, h in param_grids(quick):
+        base, table, mp, mq, forbidden = param_members(model, ps, qs, t_end)
+        rec = initial_records(base, table)
+        w0, c0 = time.perf_counter(), time.process_time()
+        m = fd.chaos_map(base, table, threshold=MAP_THRESHOLD)
+        wall, cpu = time.perf_counter() - w0, time.process_time() - c0
+        if not m.ok.all():
+            bad = np.flatnonzero(~m.ok)
+            raise SystemExit(f"parameter map {model}: {bad.size} members not finished, e.g. {m.errors[int(bad[0])]}")
+        energy = rec["energy"]
+        cls = np.where(np.isfinite(m.chaotic_at), "chaotic", np.where(m.sali >= REGULAR_ABOVE, "regular", "undecided"))
+        mcls = np.where(m.megno_mean > MEGNO_CHAOTIC, "chaotic", "regular")
+        rows = [
+            {
+                "model": model,
+                pn: float(mp[i]),
+                qn: float(mq[i]),
+                "T": t_end,
+                "h": h,
+                "energy": float(energy[i]),
+                "sali": float(m.sali[i]),
+                "sali_min": float(m.sali_min[i]),
+                "chaotic_at": float(m.chaotic_at[i]),
+                "class": str(cls[i]),
+                "megno_mean": float(m.megno_mean[i]),
+                "lyapunov": float(m.lyapunov[i]),
+                "megno_class": str(mcls[i]),
+            }
+            for i in range(len(m))
+        ]
+        write(os.path.join(data, f"integrability_params_{model}.csv"), rows)
+        mine = []
+        for p in ps:
+            at = np.isclose(mp, p)
+            n = int(np.sum(at))
+            count = {c: int(np.sum(at & (cls == c))) for c in ("chaotic", "undecided", "regular")}
+            cha, reg = at & (cls == "chaotic"), at & (cls == "regular")
+            mine.append(
+                {
+                    "map": model,
+                    "parameter": pn,
+                    "value": float(p),
+                    "points": n,
+                    "forbidden": len(qs) - n,
+                    "T": t_end,
+                    "chaotic": count["chaotic"],
+                    "undecided": count["undecided"],
+                    "regular": count["regular"],
+                    "chaotic_fraction": count["chaotic"] / n if n else float("nan"),
+                    "regular_fraction": count["regular"] / n if n else float("nan"),
+                    "megno_chaotic": int(np.sum(at & (mcls == "chaotic"))),
+                    "megno_agree": int(np.sum(at & (mcls == cls))),
+                    "decided": int(np.sum(at & (cls != "undecided"))),
+                    "initial_condition": qn,
+                    "smallest_chaotic_initial": float(np.min(mq[cha])) if cha.any() else float("nan"),
+                    "regular_sali_min": float(np.min(m.sali[reg])) if reg.any() else float("nan"),
+                    "megno_regular_max": float(np.max(m.megno_mean[reg])) if reg.any() else float("nan"),
+                    "energy_min": float(np.min(energy[at])) if n else float("nan"),
+                    "energy_max": float(np.max(energy[at])) if n else float("nan"),
+                    "wall_s": wall,
+                    "cpu_s": cpu,
+                }
+            )
+        summary += mine
+        total = {c: int(np.sum(cls == c)) for c in ("chaotic", "undecided", "regular")}
+        print(f"parameter map {model}: {total} of {len(m)} ({forbidden} forbidden), MEGNO chaotic {int(np.sum(mcls == 'chaotic'))}, {wall:.0f} s wall, {cpu:.0f} s CPU", file=sys.stderr)
+        plot_param_map(model, (pn, ps), (qn, qs), rows, mine, figures)
+    write(os.path.join(data, "integrability_params_summary.csv"), summary)
+    return summary
+
+
+# The small parameters again with a run four times as long: is the absence
+# of chaos there a matter of T? (parameter values, T) per model.
+PARAM_LONG = {"s2_affine": ((0.1, 0.3, 0.5), 2000.0), "s2_gyroscope": ((0.1, 0.2), 2000.0)}
+PARAM_LABEL = {"delta": "δ", "eps": "ε", "a": "a", "theta": "θ"}
+
+
+def param_long(quick):
+    """The members of PARAM_LONG's parameter values (every initial condition
+    of the map), one fd.chaos_map call per model at the longer T: the
+    classes per parameter value."""
+    out = []
+    for model, pn, _, qn, qs, t_map, _ in param_grids(quick):
+        values, t_end = PARAM_LONG[model]
+        if quick:
+            values, t_end = values[-1:], 2.0 * t_map
+        base, table, mp, mq, _ = param_members(model, np.array(values), qs, t_end)
+        w0 = time.perf_counter()
+        m = fd.chaos_map(base, table, threshold=MAP_THRESHOLD)
+        wall = time.perf_counter() - w0
+        if not m.ok.all():
+            raise SystemExit(f"long parameter map {model}: {int(np.sum(~m.ok))} members not finished")
+        cls = np.where(np.isfinite(m.chaotic_at), "chaotic", np.where(m.sali >= REGULAR_ABOVE, "regular", "undecided"))
+        for p in values:
+            at = np.isclose(mp, p)
+            reg = at & (cls == "regular")
+            out.append(
+                {
+                    "map": model,
+                    "parameter": pn,
+                    "value": float(p),
+                    "T": t_end,
+                    "points": int(np.sum(at)),
+                    "chaotic": int(np.sum(at & (cls == "chaotic"))),
+                    "undecided": int(np.sum(at & (cls == "undecided"))),
+                    "regular": int(np.sum(reg)),
+                    "megno_chaotic": int(np.sum(at & (m.megno_mean > MEGNO_CHAOTIC))),
+                    "chaotic_" + "initial": " ".join(f"{q:.3g}" for q in mq[at & (cls == "chaotic")]),
+                    "regular_sali_min": float(np.min(m.sali[reg])) if reg.any() else float("nan"),
+                    "megno_regular_max": float(np.max(m.megno_mean[reg])) if reg.any() else float("nan"),
+                    "wall_s": wall,
+                }
+            )
+        print(f"long parameter map {model}: T = {t_end:g}, {len(m)} members, {wall:.0f} s wall", file=sys.stderr)
+    return out
+
+
+def param_drift(quick):
+    """Relative energy drift over T at the most violent corner of each
+    parameter map: the affine body at the largest δ and a, the gyroscope at
+    the largest ε on the first allowed θ of the grid."""
+    out = []
+    for model, _, ps, _, qs, t_end, _ in param_grids(quick):
+        if model == "s2_affine":
+            d = affine_scene(float(qs[-1]), PARAM_AFFINE_S, True, t_end).to_dict()
+            d["body"]["J"] = affine_j(float(ps[-1])).tolist()
+            s = fd.Scene.from_dict(d)
+        else:
+            s = next(sc for sc in (gyro_scene(float(ps[-1]), float(q), 0.0, t_end) for q in qs) if sc is not None)
+        e = fd.solve(s).energy
+        out.append((model, float(np.max(np.abs(e - e[0])) / abs(e[0]))))
+    return out
+
+
+def compare_with_initial_maps(quick):
+    """The members of the affine parameter map at δ = 1 (general J) and
+    δ = 0 (isotropic J, here as body.J = 0.1·1 rather than body.inertia =
+    0.1) against the points of map (a) at the same (a, s), read from
+    docs/data/integrability_map_s2_affine.csv: the number of equal classes
+    and the largest relative difference of the final SALI."""
+    if quick:
+        return []
+    path = os.path.join(DATA, "integrability_map_s2_affine.csv")
+    mine = os.path.join(DATA, "integrability_params_s2_affine.csv")
+    if not (os.path.exists(path) and os.path.exists(mine)):
+        return []
+    with open(path) as f:
+        old = {(r["variant"], round(float(r["a"]), 6)): r for r in csv.DictReader(f) if abs(float(r["s"]) - PARAM_AFFINE_S) < 1e-9}
+    with open(mine) as f:
+        new = list(csv.DictReader(f))
+    out = []
+    for delta, variant in ((1.0, "general J"), (0.0, "isotropic J")):
+        pairs = [(r, old[(variant, round(float(r["a"]), 6))]) for r in new if abs(float(r["delta"]) - delta) < 1e-9 and (variant, round(float(r["a"]), 6)) in old]
+        same = sum(r["class"] == o["class"] for r, o in pairs)
+        rel = max(abs(float(r["sali"]) - float(o["sali"])) / float(o["sali"]) for r, o in pairs)
+        out.append((delta, variant, same, len(pairs), rel))
+    return out
+
+
+def plot_param_map(model, pars, ics, rows, summary, figures):
+    """SALI at the end and MEGNO ⟨Y⟩ at T over (parameter, initial
+    condition), and the fractions of chaotic, undecided and regular members
+    against the parameter."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    (pn, ps), (qn, qs) = pars, ics
+    fig, axes = plt.subplots(1, 3, figsize=(17, 5.0), constrained_layout=True)
+    dp, dq = ps[1] - ps[0], qs[1] - qs[0]
+    extent = [ps[0] - dp / 2, ps[-1] + dp / 2, qs[0] - dq / 2, qs[-1] + dq / 2]
+    z = np.full((len(qs), len(ps)), np.nan)
+    y = np.full((len(qs), len(ps)), np.nan)
+    for r in rows:
+        i, j = int(np.argmin(np.abs(qs - r[qn]))), int(np.argmin(np.abs(ps - r[pn])))
+        z[i, j] = math.log10(max(r["sali"], 1e-12))
+        y[i, j] = r["megno_mean"]
+    if model == "s2_affine":
+        xlabel = r"$\delta$: $J = 0.1\cdot 1 + \delta\,(J_1 - 0.1\cdot 1)$, $J_1 = [[0.1, 0.02], [0.02, 0.05]]$"
+        ylabel = r"initial deformation $a$ ($\rho = 1 + a D$)"
+        title = f"S² affine body, elastic, ρ̇₀ = {PARAM_AFFINE_S:g}·Ṙ, T = {rows[0]['T']:g}"
+    else:
+        xlabel = r"tilt $\varepsilon$: $V = \hat\alpha z^2 + \hat\beta z + \varepsilon x$"
+        ylabel = r"$\theta$ on the circle $x_1 = 0$, $v_\theta = 0$"
+        title = f"S² gyroscope, spin {GYRO_SPIN}, ½|v|² + V = {GYRO_E:g}, T = {rows[0]['T']:g}"
+    for ax, values, cmap_name, lo, hi, label in (
+        (axes[0], z, "magma", math.log10(MAP_THRESHOLD), 0.0, rf"$\log_{{10}}$ SALI at the end (runs stop at $10^{{{int(math.log10(MAP_THRESHOLD))}}}$)"),
+        (axes[1], y, "viridis", 0.0, 2.0 * MEGNO_CHAOTIC, r"MEGNO $\langle Y\rangle$ at $T$ (2: quasi-periodic)"),
+    ):
+        cmap = plt.get_cmap(cmap_name).copy()
+        cmap.set_bad("0.85")
+        im = ax.imshow(np.ma.masked_invalid(values), origin="lower", extent=extent, aspect="auto", cmap=cmap, vmin=lo, vmax=hi, interpolation="nearest")
+        fig.colorbar(im, ax=ax, label=label, shrink=0.9)
+        ax.set_xlabel(xlabel, fontsize=8)
+        ax.set_ylabel(ylabel)
+        ax.set_title(title, fontsize=9)
+    ax = axes[2]
+    x = [r["value"] for r in summary]
+    ax.plot(x, [100 * r["chaotic_fraction"] for r in summary], "o-", color="black", label=f"chaotic (SALI < {MAP_THRESHOLD:g})")
+    ax.plot(x, [100 * r["undecided"] / r["points"] for r in summary], "s-", color="0.6", label="undecided")
+    ax.plot(x, [100 * r["regular_fraction"] for r in summary], "^-", color="tab:blue", label=f"regular (SALI ≥ {REGULAR_ABOVE:g})")
+    ax.plot(x, [100 * r["megno_chaotic"] / r["points"] for r in summary], "x--", color="tab:red", label=f"MEGNO ⟨Y⟩ > {MEGNO_CHAOTIC:g}")
+    ax.set_xlabel(xlabel, fontsize=8)
+    ax.set_ylabel(f"% of the allowed members at that {PARAM_LABEL[pn]}")
+    ax.set_ylim(-3, 103)
+    ax.legend(fontsize=8)
+    ax.set_title(f"classes against {PARAM_LABEL[pn]} (at most {len(qs)} values of {PARAM_LABEL[qn]} each)", fontsize=9)
+    fig.savefig(os.path.join(figures, f"integrability_params_{model}.png"), dpi=110)
+    plt.close(fig)
+
+
+def print_param_long(rows):
+    print()
+    print(
+        f"| map | parameter | T | members | chaotic (SALI < {MAP_THRESHOLD:g}) | undecided | regular | ⟨Y⟩ > {MEGNO_CHAOTIC:g} | initial condition of the chaotic | "
+        "smallest final SALI of the regular | largest ⟨Y⟩ of the regular | wall |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        print(
+            f"| {r['map']} | {PARAM_LABEL[r['parameter']]} = {r['value']:g} | {r['T']:g} | {r['points']} | {r['chaotic']} | {r['undecided']} | {r['regular']} | "
+            f"{r['megno_chaotic']} | {r['chaotic_initial'] or '—'} | {r['regular_sali_min']:.1e} | {r['megno_regular_max']:.2f} | {r['wall_s']:.0f} s |"
+        )
+
+
+def print_params(summary, drift, checks):
+    for model in dict.fromkeys(r["map"] for r in summary):
+        mine = [r for r in summary if r["map"] == model]
+        pn = mine[0]["parameter"]
+        qn = mine[0]["initial_condition"]
+        print()
+        print(
+            f"| {pn} | members | chaotic (SALI < {MAP_THRESHOLD:g}) | undecided | regular | chaotic fraction | ⟨Y⟩ > {MEGNO_CHAOTIC:g} | MEGNO agrees (of the decided) | "
+            f"smallest {qn} of a chaotic member | smallest final SALI of the regular | largest ⟨Y⟩ of the regular | initial energy |"
+        )
+        print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+        for r in mine:
+            first = r["smallest_chaotic_initial"]
+            print(
+                f"| {r['value']:g} | {r['points']} | {r['chaotic']} | {r['undecided']} | {r['regular']} | {100 * r['chaotic_fraction']:.1f} % | {r['megno_chaotic']} | "
+                f"{r['megno_agree']}/{r['decided']} | {'—' if math.isnan(first) else f'{first:.3g}'} | {r['regular_sali_min']:.1e} | {r['megno_regular_max']:.2f} | "
+                f"{r['energy_min']:.2f} … {r['energy_max']:.2f} |"
+            )
+        total = {k: sum(r[k] for r in mine) for k in ("points", "forbidden", "chaotic", "undecided", "regular", "megno_chaotic", "megno_agree", "decided")}
+        print(
+            f"\n{model}: T = {mine[0]['T']:g}, in all {total['chaotic']} chaotic, {total['undecided']} undecided, {total['regular']} regular of {total['points']} "
+            f"({total['forbidden']} forbidden by the energy); ⟨Y⟩ > {MEGNO_CHAOTIC:g} at {total['megno_chaotic']}, MEGNO agrees with SALI at {total['megno_agree']}/{total['decided']} "
+            f"of the decided; one fd.chaos_map call: {mine[0]['wall_s']:.0f} s wall, {mine[0]['cpu_s']:.0f} s CPU"
+        )
+    for model, d in drift:
+        print(f"{model} parameter map, most violent corner: relative energy drift over T {d:.1e}")
+    for delta, variant, same, n, rel in checks:
+        print(f"affine parameter map at delta = {delta:g} against map (a), {variant}, s = {PARAM_AFFINE_S:g}: {same}/{n} classes equal, largest relative difference of the final SALI {rel:.1e}")
+
+
 def floor_cases(t_end):
     """The chaotic orbits of the floor check: (file stem, name, h, scene)."""
     return [
@@ -765,6 +1092,14 @@ def print_maps(summary, drift, floor, sec_rows, kepler):
         )
 
 
+def run_params(quick, data, figures):
+    summary = param_maps(quick, data, figures)
+    print_params(summary, param_drift(quick), compare_with_initial_maps(quick))
+    long = param_long(quick)
+    write(os.path.join(data, "integrability_params_long.csv"), long)
+    print_param_long(long)
+
+
 def main():
     ap = argparse.ArgumentParser(description="Integrability atlas (issue 21): the table of exponents, its cost, SALI maps and Poincaré sections.")
     ap.add_argument("--quick", action="store_true", help="small grids and short runs, written to out/integrability_quick/")
@@ -772,6 +1107,7 @@ def main():
     ap.add_argument("--table-only", action="store_true", help="the table and cost only (not the maps)")
     ap.add_argument("--floor-only", action="store_true", help="the SALI floor check only")
     ap.add_argument("--grids-only", action="store_true", help="the SALI/MEGNO maps over initial conditions only (not the floor check and sections)")
+    ap.add_argument("--params-only", action="store_true", help="the maps over parameters only (the affine body's J anisotropy, the gyroscope's tilt)")
     ap.add_argument("--floor-scenes", metavar="DIR", help="write the floor check's orbits as scene files (JSON) into DIR and stop")
     ap.add_argument("--workers", type=int, default=2, help="worker processes for the sections (1 or 2); the maps run on the Rust threads of fd.chaos_map")
     args = ap.parse_args()
@@ -793,6 +1129,10 @@ def main():
         print_floor(floor)
         print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
         return
+    if args.params_only:
+        run_params(args.quick, data, figures)
+        print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
+        return
     if args.grids_only:
         summary = maps(args.quick, data, figures)
         write(os.path.join(data, "integrability_maps.csv"), summary)
@@ -811,6 +1151,8 @@ def main():
         sec_rows = sections(args.quick, workers, data, figures)
         kepler = kepler_steps(args.quick)
         print_maps(summary, drift, floor, sec_rows, kepler)
+    if not args.table_only and not args.maps_only:
+        run_params(args.quick, data, figures)
     print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
 
 
