@@ -20,9 +20,23 @@ cd "$(dirname "$0")/.."
 # other number) to explore new cases.
 if [ "${PROPTEST_RNG_SEED:-}" = random ]; then unset PROPTEST_RNG_SEED; else export PROPTEST_RNG_SEED="${PROPTEST_RNG_SEED:-20261122}"; fi
 
-# Each step's wall time, printed when it ends (docs/development.md).
+# Each step's wall time, printed when it ends (docs/development.md), and the
+# CPU time (user + system) of the child processes that ended during it, so
+# that runs on a busy and on a quiet machine can be compared in CPU time too
+# (the background job's CPU time falls into the step during which it ends).
+cpu_file="$(mktemp)"
+trap 'rm -f "$cpu_file"' EXIT
+# `times` must run in this shell (not in a $(…) subshell) to see its children.
+read_cpu() { times > "$cpu_file"; cpu_now=$(awk 'NR == 2 { split($1, u, "m"); split($2, s, "m"); printf "%.0f", u[1] * 60 + u[2] + s[1] * 60 + s[2] }' "$cpu_file"); }
 step_start=$SECONDS
-step() { echo "[test.sh] $1: $((SECONDS - step_start)) s"; step_start=$SECONDS; }
+read_cpu
+step_cpu=$cpu_now
+step() {
+    read_cpu
+    echo "[test.sh] $1: $((SECONDS - step_start)) s (CPU $((cpu_now - step_cpu)) s)"
+    step_start=$SECONDS
+    step_cpu=$cpu_now
+}
 
 ./scripts/python-env.sh
 step "python environment"
@@ -65,7 +79,7 @@ target_dir="${CARGO_TARGET_DIR:-target}"
 stamp="$(mktemp)"
 beside_log=""
 beside_pid=""
-trap 'rm -f "$stamp" "$beside_log"; if [ -n "$beside_pid" ]; then kill "$beside_pid" 2>/dev/null || true; fi' EXIT
+trap 'rm -f "$stamp" "$beside_log" "$cpu_file"; if [ -n "$beside_pid" ]; then kill "$beside_pid" 2>/dev/null || true; fi' EXIT
 # The extension is an abi3 module (_framedyn.abi3.so); a version-specific
 # one left by a build before the switch would shadow it on import.
 rm -f python/framedyn/_framedyn.cpython-*.so
