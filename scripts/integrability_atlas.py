@@ -395,6 +395,23 @@ def map_grids(quick):
     ]
 
 
+def run_chaos_map(base, table, what):
+    """One fd.chaos_map call at MAP_THRESHOLD: the map, its wall and CPU time,
+    and the SALI class ("chaotic" below the threshold within T, "regular" at
+    or above REGULAR_ABOVE at T, else "undecided") and MEGNO class (⟨Y⟩ >
+    MEGNO_CHAOTIC) of every member. Stops the script if a member did not
+    finish (`what` names the map)."""
+    w0, c0 = time.perf_counter(), time.process_time()
+    m = fd.chaos_map(base, table, threshold=MAP_THRESHOLD)
+    wall, cpu = time.perf_counter() - w0, time.process_time() - c0
+    if not m.ok.all():
+        bad = np.flatnonzero(~m.ok)
+        raise SystemExit(f"{what}: {bad.size} members not finished, e.g. {m.errors[int(bad[0])]}")
+    cls = np.where(np.isfinite(m.chaotic_at), "chaotic", np.where(m.sali >= REGULAR_ABOVE, "regular", "undecided"))
+    mcls = np.where(m.megno_mean > MEGNO_CHAOTIC, "chaotic", "regular")
+    return m, wall, cpu, cls, mcls
+
+
 def maps(quick, data, figures):
     """Each map is one fd.chaos_map call (SALI and MEGNO of every grid point,
     in parallel in Rust) on its base scene and member table."""
@@ -404,17 +421,9 @@ def maps(quick, data, figures):
         for v in variants:
             base, table, mp, mq, forbidden = map_members(model, v, ps, qs, t_end)
             rec = initial_records(base, table)
-            w0, c0 = time.perf_counter(), time.process_time()
-            m = fd.chaos_map(base, table, threshold=MAP_THRESHOLD)
-            wall, cpu = time.perf_counter() - w0, time.process_time() - c0
-            if not m.ok.all():
-                bad = np.flatnonzero(~m.ok)
-                raise SystemExit(f"map {model} {v}: {bad.size} members not finished, e.g. {m.errors[int(bad[0])]}")
+            m, wall, cpu, cls, mcls = run_chaos_map(base, table, f"map {model} {v}")
             energy = rec["energy"]
             spin = rec["k_12"] - rec["k_21"] if model == "s2_affine" else rec.get("spin", np.full(len(m), np.nan))
-            chaotic = np.isfinite(m.chaotic_at)
-            cls = np.where(chaotic, "chaotic", np.where(m.sali >= REGULAR_ABOVE, "regular", "undecided"))
-            mcls = np.where(m.megno_mean > MEGNO_CHAOTIC, "chaotic", "regular")
             mine = [
                 {
                     "model": model,
@@ -625,15 +634,8 @@ def param_maps(quick, data, figures):
     for model, pn, ps, qn, qs, t_end, h in param_grids(quick):
         base, table, mp, mq, forbidden = param_members(model, ps, qs, t_end)
         rec = initial_records(base, table)
-        w0, c0 = time.perf_counter(), time.process_time()
-        m = fd.chaos_map(base, table, threshold=MAP_THRESHOLD)
-        wall, cpu = time.perf_counter() - w0, time.process_time() - c0
-        if not m.ok.all():
-            bad = np.flatnonzero(~m.ok)
-            raise SystemExit(f"parameter map {model}: {bad.size} members not finished, e.g. {m.errors[int(bad[0])]}")
+        m, wall, cpu, cls, mcls = run_chaos_map(base, table, f"parameter map {model}")
         energy = rec["energy"]
-        cls = np.where(np.isfinite(m.chaotic_at), "chaotic", np.where(m.sali >= REGULAR_ABOVE, "regular", "undecided"))
-        mcls = np.where(m.megno_mean > MEGNO_CHAOTIC, "chaotic", "regular")
         rows = [
             {
                 "model": model,
@@ -709,12 +711,7 @@ def param_long(quick):
         if quick:
             values, t_end = values[-1:], 2.0 * t_map
         base, table, mp, mq, _ = param_members(model, np.array(values), qs, t_end)
-        w0 = time.perf_counter()
-        m = fd.chaos_map(base, table, threshold=MAP_THRESHOLD)
-        wall = time.perf_counter() - w0
-        if not m.ok.all():
-            raise SystemExit(f"long parameter map {model}: {int(np.sum(~m.ok))} members not finished")
-        cls = np.where(np.isfinite(m.chaotic_at), "chaotic", np.where(m.sali >= REGULAR_ABOVE, "regular", "undecided"))
+        m, wall, _, cls, _ = run_chaos_map(base, table, f"long parameter map {model}")
         for p in values:
             at = np.isclose(mp, p)
             reg = at & (cls == "regular")
