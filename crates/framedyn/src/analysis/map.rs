@@ -33,7 +33,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use rayon::prelude::*;
 
 use super::{AnalysisError, Linearisation};
-use crate::scenes::{worker_threads, EnsembleOptions, FieldPath, MemberStatus, Scene, SceneAnalysisError, Table};
+use crate::scenes::{workers, EnsembleOptions, FieldPath, MemberStatus, Scene, SceneAnalysisError, Table, Workers};
 
 /// Settings of [`chaos_map`]. The step and span of each member are those of
 /// its scene (`method.h`, `time.t0`, `time.t_end`, which the table may set).
@@ -229,17 +229,16 @@ pub fn chaos_map(base: &Scene, table: &Table, opts: &ChaosMapOptions, cancel: &A
         .map(|name| Ok((FieldPath::parse(name).map_err(|e| AnalysisError::invalid("table", e, "a table of scene fields"))?, table.column(name).unwrap_or(&[]))))
         .collect::<Result<_, AnalysisError>>()?;
     let one = |scene: &mut Scene, i: usize| member(scene, &columns, i, opts, cancel);
-    let rows: Vec<Row> = match opts.threads.map(|t| worker_threads(t, n, opts.oversubscribe)) {
-        Some(1) => {
+    let workers = workers(opts.threads, n, opts.oversubscribe)
+        .map_err(|e| AnalysisError::invalid("threads", opts.threads.unwrap_or(0), format!("a count the machine can start ({e})")))?;
+    let parallel = || (0..n).into_par_iter().map_init(|| base.clone(), one).collect();
+    let rows: Vec<Row> = match workers {
+        Workers::Serial => {
             let mut scene = base.clone();
             (0..n).map(|i| one(&mut scene, i)).collect()
         }
-        Some(t) => rayon::ThreadPoolBuilder::new()
-            .num_threads(t)
-            .build()
-            .map_err(|e| AnalysisError::invalid("threads", t, format!("a count the machine can start ({e})")))?
-            .install(|| (0..n).into_par_iter().map_init(|| base.clone(), one).collect()),
-        None => (0..n).into_par_iter().map_init(|| base.clone(), one).collect(),
+        Workers::Pool(pool) => pool.install(parallel),
+        Workers::Global => parallel(),
     };
     let mut map = ChaosMap::default();
     for r in rows {

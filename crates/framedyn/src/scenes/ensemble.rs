@@ -183,6 +183,28 @@ pub fn worker_threads(requested: usize, members: usize, oversubscribe: bool) -> 
     }
 }
 
+/// Where the members of an ensemble run (see [`workers`]).
+pub(crate) enum Workers {
+    /// On the calling thread, one after another (one worker asked for or
+    /// possible).
+    Serial,
+    /// On a pool of their own, of [`worker_threads`] threads.
+    Pool(rayon::ThreadPool),
+    /// On rayon's global pool (no thread count given).
+    Global,
+}
+
+/// The workers for `threads` (checked by the caller: `None` or 1 …
+/// [`EnsembleOptions::MAX_THREADS`]) and `members` members. An error is a
+/// pool the machine cannot start.
+pub(crate) fn workers(threads: Option<usize>, members: usize, oversubscribe: bool) -> Result<Workers, rayon::ThreadPoolBuildError> {
+    match threads.map(|n| worker_threads(n, members, oversubscribe)) {
+        None => Ok(Workers::Global),
+        Some(1) => Ok(Workers::Serial),
+        Some(t) => rayon::ThreadPoolBuilder::new().num_threads(t).build().map(Workers::Pool),
+    }
+}
+
 /// How a member ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MemberStatus {
@@ -462,20 +484,13 @@ pub fn run_ensemble_blocks(
     // One worker thread: the members run on the calling thread, one after
     // another (no pool; a user potential that calls back into an
     // interpreter is called from the thread that ran the ensemble).
-    let pool = match opts.threads {
-        Some(n) if n == 0 || n > EnsembleOptions::MAX_THREADS => {
+    if let Some(n) = opts.threads {
+        if n == 0 || n > EnsembleOptions::MAX_THREADS {
             return Err(SceneError::invalid("threads", n, format!("must be between 1 and {}", EnsembleOptions::MAX_THREADS)));
         }
-        Some(n) if worker_threads(n, table.len(), opts.oversubscribe) == 1 => None,
-        Some(n) => Some(
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(worker_threads(n, table.len(), opts.oversubscribe))
-                .build()
-                .map_err(|e| SceneError::invalid("threads", n, format!("cannot start the threads: {e}")))?,
-        ),
-        None => None,
-    };
-    let serial = pool.is_none() && opts.threads.is_some();
+    }
+    let workers = workers(opts.threads, table.len(), opts.oversubscribe)
+        .map_err(|e| SceneError::invalid("threads", opts.threads.unwrap_or(0), format!("cannot start the threads: {e}")))?;
     let finished = AtomicUsize::new(0);
     let mut own = Worker::new(base, table, opts.keep);
     for first in (0..table.len()).step_by(block) {
@@ -487,14 +502,11 @@ pub fn run_ensemble_blocks(
             done(finished.fetch_add(1, Ordering::Relaxed) + 1);
             r
         };
-        let runs: Vec<MemberRun> = if serial {
-            members.map(|i| one(&mut own, i)).collect()
-        } else {
-            let work = || members.clone().into_par_iter().map_init(|| Worker::new(base, table, opts.keep), one).collect::<Vec<_>>();
-            match &pool {
-                Some(p) => p.install(work),
-                None => work(),
-            }
+        let work = || members.clone().into_par_iter().map_init(|| Worker::new(base, table, opts.keep), one).collect::<Vec<_>>();
+        let runs: Vec<MemberRun> = match &workers {
+            Workers::Serial => members.clone().map(|i| one(&mut own, i)).collect(),
+            Workers::Pool(p) => p.install(work),
+            Workers::Global => work(),
         };
         let (columns, frame_shape) = layout.into_inner().unwrap_or_default();
         let total: usize = runs.iter().map(|r| r.data.len()).sum();

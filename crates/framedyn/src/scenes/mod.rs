@@ -141,6 +141,7 @@ mod summary;
 pub use analysis::{SceneAnalysisError, Section};
 pub use error::{Location, RunError, SceneError};
 pub use ensemble::{run_ensemble, run_ensemble_blocks, worker_threads, Ensemble, EnsembleOptions, Keep, MemberOutcome, MemberStatus, Table};
+pub(crate) use ensemble::{workers, Workers};
 pub use examples::{example, DEFAULT_SCENE, EXAMPLES};
 pub use fields::FieldPath;
 pub use plan::DEFAULT_SCENE_MAX_STEPS;
