@@ -164,6 +164,13 @@ def _scene(scene: Any) -> Scene:
     raise TypeError(f"scene: expected a framedyn.Scene or a dict, got {type(scene).__name__}")
 
 
+def _bools(**flags: Any) -> None:
+    """``TypeError`` naming the first of ``flags`` that is not a bool."""
+    for name, flag in flags.items():
+        if not isinstance(flag, bool):
+            raise TypeError(f"invalid `{name}` = {flag!r}: must be a bool")
+
+
 def _real(value: Any, name: str) -> float:
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise TypeError(f"invalid `{name}` = {value!r}: must be a real number, not {type(value).__name__}")
@@ -210,9 +217,7 @@ def lyapunov(
         k: Optional[int] = None
     else:
         k = check_int(exponents, "exponents", 1, 10_000)
-    for flag, name in ((fourth_order, "fourth_order"), (two_trajectory, "two_trajectory")):
-        if not isinstance(flag, bool):
-            raise TypeError(f"invalid `{name}` = {flag!r}: must be a bool")
+    _bools(fourth_order=fourth_order, two_trajectory=two_trajectory)
     raw = _framedyn.lyapunov(
         s._native,
         k,
@@ -304,8 +309,7 @@ def sali(scene: Union[Scene, Mapping[str, Any]], *, threshold: float = 1e-8, see
     Raises :class:`InvalidInputError` for a bad threshold or ``eps`` or an
     unsuitable scene, ``TypeError`` for arguments of the wrong type."""
     s = _scene(scene)
-    if not isinstance(fourth_order, bool):
-        raise TypeError(f"invalid `fourth_order` = {fourth_order!r}: must be a bool")
+    _bools(fourth_order=fourth_order)
     value, at, low, steps = _framedyn.sali(
         s._native, _real(threshold, "threshold"), check_int(seed, "seed", 0, _U64_MAX), None if eps is None else _real(eps, "eps"), fourth_order
     )
@@ -329,8 +333,7 @@ def megno(scene: Union[Scene, Mapping[str, Any]], *, seed: int = 1, eps: Optiona
     for an argument of the wrong type, :class:`IntegrationError` when a step
     fails; Ctrl-C raises ``KeyboardInterrupt``."""
     s = _scene(scene)
-    if not isinstance(fourth_order, bool):
-        raise TypeError(f"invalid `fourth_order` = {fourth_order!r}: must be a bool")
+    _bools(fourth_order=fourth_order)
     raw = _framedyn.megno(s._native, check_int(seed, "seed", 0, _U64_MAX), None if eps is None else _real(eps, "eps"), fourth_order)
     return MegnoResult(**raw)
 
@@ -373,9 +376,7 @@ def chaos_map(
     argument of the wrong type; Ctrl-C stops the running members and raises
     ``KeyboardInterrupt``."""
     s = _scene(scene)
-    for flag, name in ((sali, "sali"), (megno, "megno"), (fourth_order, "fourth_order"), (oversubscribe, "oversubscribe")):
-        if not isinstance(flag, bool):
-            raise TypeError(f"invalid `{name}` = {flag!r}: must be a bool")
+    _bools(sali=sali, megno=megno, fourth_order=fourth_order, oversubscribe=oversubscribe)
     names, cols = table_columns(table)
     raw = _framedyn.chaos_map(
         s._native,
