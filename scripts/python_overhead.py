@@ -14,8 +14,9 @@ Targets measured (benchmarks, not tests):
 Steps:
 1. `cargo build --release -p framedyn-tests --example scene_timing` (the Rust side).
 2. The Python extension must be an optimised build too. If the one this
-   interpreter imports is a development build (`maturin develop`: it carries
-   DWARF `.debug_info`, the mark of the dev profile), a release wheel is
+   interpreter imports is a development build (`maturin develop`: the dev
+   profile, whose debug assertions the extension reports as
+   `framedyn._framedyn._debug_assertions`), a release wheel is
    built (`maturin build --release -o <tmp>/wheels`) and installed, with
    numpy from PyPI (the version of this interpreter's numpy), into a
    temporary virtual environment (no system site-packages) that is deleted
@@ -54,7 +55,6 @@ import json
 import os
 import shutil
 import statistics
-import struct
 import subprocess
 import sys
 import tempfile
@@ -99,32 +99,17 @@ def run(cmd, **kw):
 # ---------------------------------------------------------------------------
 
 
-def elf_sections(path):
-    """Section names of an ELF64 little-endian shared object."""
-    with open(path, "rb") as f:
-        head = f.read(64)
-        if head[:4] != b"\x7fELF" or head[4] != 2 or head[5] != 1:
-            raise ValueError(f"{path}: not an ELF64 little-endian file")
-        shoff = struct.unpack_from("<Q", head, 0x28)[0]
-        shentsize, shnum, shstrndx = struct.unpack_from("<HHH", head, 0x3A)
-        f.seek(shoff)
-        table = f.read(shentsize * shnum)
-        headers = [struct.unpack_from("<IIQQQQ", table, i * shentsize) for i in range(shnum)]
-        _, _, _, _, str_off, str_size = headers[shstrndx]
-        f.seek(str_off)
-        strtab = f.read(str_size)
-    return [strtab[h[0] : strtab.index(b"\0", h[0])].decode() for h in headers]
-
-
 def installed_extension():
     """Path of the framedyn extension this interpreter imports, and whether
-    it is a development build (DWARF debug info: the dev profile)."""
+    it is a development build (debug assertions on: the dev profile)."""
     import importlib.util
 
     spec = importlib.util.find_spec("framedyn._framedyn")
     if spec is None or spec.origin is None:
         return None, True
-    return spec.origin, ".debug_info" in elf_sections(spec.origin)
+    from framedyn import _framedyn
+
+    return spec.origin, bool(getattr(_framedyn, "_debug_assertions", True))
 
 
 def make_wheel_venv(tmp):

@@ -13,6 +13,7 @@ __all__ = [
     "Scene",
     "Stepper",
     "__version__",
+    "_debug_assertions",
     "_raise_for_test",
     "chaos_map",
     "cli_main",
@@ -29,6 +30,8 @@ __all__ = [
     "write_records",
 ]
 __version__: str
+# True in a development build (`maturin develop`: the dev profile).
+_debug_assertions: bool
 
 _UserPotential = Callable[[npt.NDArray[np.float64], npt.NDArray[np.float64]], float]
 _UserGradient = Callable[[npt.NDArray[np.float64], npt.NDArray[np.float64]], Tuple[Any, Any]]

@@ -22,6 +22,9 @@ mod scene;
 #[pymodule]
 fn _framedyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // Whether this is a development build (the dev profile keeps debug
+    // assertions; release wheels do not): scripts that measure speed read it.
+    m.add("_debug_assertions", cfg!(debug_assertions))?;
     m.add_class::<scene::PyScene>()?;
     m.add_class::<run::PyStepper>()?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
