@@ -42,7 +42,7 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use super::event::{brent, Direction, Event, EventRecord};
+use super::event::{brent_dyn, Direction, Event, EventRecord};
 use super::{adaptive, fault_error, Adaptive, DenseSegment, Save, SolveError, Stats, StepSize, StopReason};
 use crate::dynamics::System;
 use crate::lie::{AlgebraVector, LieGroup};
@@ -659,8 +659,8 @@ where
                 let events = &mut *self.events;
                 let stats = &mut self.stats;
                 let mut failure: Option<SolveError> = None;
-                let (tr, evals) = brent(
-                    |tau| match interpolate(sys, method, stats, tau, t, &y0, seg) {
+                let (tr, evals) = brent_dyn(
+                    &mut |tau| match interpolate(sys, method, stats, tau, t, &y0, seg) {
                         Ok(y) => {
                             let v = events.value(k, tau, &y);
                             if !v.is_finite() && failure.is_none() {
@@ -691,9 +691,8 @@ where
         if hits.is_empty() {
             return Ok(None);
         }
-        let dir = self.dir;
-        hits.sort_by(|a, b| ((a.0 - t) * dir).total_cmp(&((b.0 - t) * dir)));
-        for (tr, k, rising, yr) in hits {
+        for i in time_order(hits.iter().map(|hit| (hit.0 - t) * self.dir).collect()) {
+            let (tr, k, rising, yr) = hits[i];
             let terminal = self.events.terminal(k);
             self.sink.event(&EventRecord { index: k, t: tr, y: yr, rising, terminal }).map_err(DriveError::Sink)?;
             if terminal {
@@ -702,6 +701,16 @@ where
         }
         Ok(None)
     }
+}
+
+/// The indices of `keys` in increasing order (ties in index order): the
+/// order in which a step's crossings are reported, from their distances
+/// along the direction of integration. Not generic, so that the sort is
+/// compiled once rather than for every system × method the driver runs.
+fn time_order(keys: Vec<f64>) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..keys.len()).collect();
+    order.sort_by(|&a, &b| keys[a].total_cmp(&keys[b]));
+    order
 }
 
 /// The state at `tau` in the step from `(t, y0)`: `seg` evaluated, or a

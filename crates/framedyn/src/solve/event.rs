@@ -129,6 +129,14 @@ pub struct EventRecord<G: LieGroup> {
 /// Brent's `zeroin` on `[a, b]` with `f(a)·f(b) ≤ 0`: returns a point within
 /// `2ε|x| + xtol/2` of a zero of `f` (and the number of evaluations).
 pub fn brent(mut f: impl FnMut(f64) -> f64, a: f64, b: f64, fa: f64, fb: f64, xtol: f64) -> (f64, usize) {
+    brent_dyn(&mut f, a, b, fa, fb, xtol)
+}
+
+/// [`brent`] on a function called through a trait object: compiled once,
+/// not once per caller's closure (the driver's event location runs it for
+/// every system × method it is instantiated with; the call through the
+/// pointer is nothing beside the dense-output evaluation behind it).
+pub(crate) fn brent_dyn(f: &mut dyn FnMut(f64) -> f64, a: f64, b: f64, fa: f64, fb: f64, xtol: f64) -> (f64, usize) {
     let (mut a, mut b, mut fa, mut fb) = (a, b, fa, fb);
     if fa == 0.0 {
         return (a, 0);
