@@ -281,10 +281,10 @@ fn eval_stage<Sys: System>(sys: &Sys, t: f64, y: &Sys::State, in_theta: bool) ->
 /// reached when a step fails).
 #[cold]
 #[inline(never)]
-fn stage_fault<G: LieGroup, const S: usize>(k: &[G::Algebra], tab: &Tableau<S>, t: f64, h: f64) -> Option<StepFault> {
+fn stage_fault<G: LieGroup>(k: &[G::Algebra], c: &[f64], t: f64, h: f64) -> Option<StepFault> {
     k.iter()
         .position(|ki| !ki.is_finite())
-        .map(|i| StepFault::NonFinite { source: NonFiniteSource::VectorField, t_eval: t + tab.c[i] * h })
+        .map(|i| StepFault::NonFinite { source: NonFiniteSource::VectorField, t_eval: t + c[i] * h })
 }
 
 /// The failing branch of [`guard`] (out of line): the fault with the bound found.
@@ -425,7 +425,7 @@ where
     // Stage 2: θ₂ = (h/2) K₁.
     let th = combine(&[k0], &[TAB.a[1][0]], h);
     guard::<G<Sys>>(&th, radius_limit, t + TAB.c[1] * h, cost)
-        .map_err(|e| stage_fault::<G<Sys>, 4>(&[k0], &TAB, t, h).unwrap_or(e))?;
+        .map_err(|e| stage_fault::<G<Sys>>(&[k0], &TAB.c, t, h).unwrap_or(e))?;
     let yi = y0.compose(&G::<Sys>::exp(&th));
     cost.exps += 1;
     cost.rhs += 1;
@@ -435,7 +435,7 @@ where
     cost.brackets += 1;
     th = th + G::<Sys>::bracket(&k0, &k1) * (h * h * STAGE_BRACKET);
     guard::<G<Sys>>(&th, radius_limit, t + TAB.c[2] * h, cost)
-        .map_err(|e| stage_fault::<G<Sys>, 4>(&[k0, k1], &TAB, t, h).unwrap_or(e))?;
+        .map_err(|e| stage_fault::<G<Sys>>(&[k0, k1], &TAB.c, t, h).unwrap_or(e))?;
     let yi = y0.compose(&G::<Sys>::exp(&th));
     cost.exps += 1;
     cost.rhs += 1;
@@ -443,7 +443,7 @@ where
     // Stage 4: θ₄ = h K₃.
     let th = combine(&[k0, k1, k2], &[TAB.a[3][0], TAB.a[3][1], TAB.a[3][2]], h);
     guard::<G<Sys>>(&th, radius_limit, t + TAB.c[3] * h, cost)
-        .map_err(|e| stage_fault::<G<Sys>, 4>(&[k0, k1, k2], &TAB, t, h).unwrap_or(e))?;
+        .map_err(|e| stage_fault::<G<Sys>>(&[k0, k1, k2], &TAB.c, t, h).unwrap_or(e))?;
     let yi = y0.compose(&G::<Sys>::exp(&th));
     cost.exps += 1;
     cost.rhs += 1;
@@ -454,7 +454,7 @@ where
     cost.brackets += 1;
     theta = theta + G::<Sys>::bracket(&k0, &k3) * (h * h * OUTPUT_BRACKET);
     if !theta.is_finite() {
-        return Err(stage_fault::<G<Sys>, 4>(&k, &TAB, t, h)
+        return Err(stage_fault::<G<Sys>>(&k, &TAB.c, t, h)
             .unwrap_or(StepFault::NonFinite { source: NonFiniteSource::Increment, t_eval: t + h }));
     }
     guard::<G<Sys>>(&theta, radius_limit, t + h, cost)?;
@@ -504,164 +504,229 @@ where
         h: f64,
         req: StepRequest<Alg<Sys>>,
     ) -> Result<StepOutput<Sys::State>, StepFault> {
-        type G<Sys> = <Sys as System>::State;
         if self.kernel == Kernel::Rk4 && !req.dense && !req.error {
             return rk4_kernel(sys, t, y0, h, req.f_start, req.f_end, self.radius_limit);
         }
         let tab = self.tableau;
         let corr = self.correction();
-        // The last stage is at the new state only if Θ = θ_S, i.e. no output
-        // commutators are added to Θ.
-        let fsal = tab.is_fsal() && !matches!(corr, Correction::Brackets(f) if !f.output.is_empty());
-        let native_dense = req.dense && tab.dense.is_some();
-        let want_f_end = req.f_end || (req.dense && tab.dense.is_none());
-        let n = if req.error || native_dense || (fsal && want_f_end) { S } else { tab.solution_stages() };
-        let mut cost = StepCost::default();
+        let data = StageData {
+            a: tab.a.as_flattened(),
+            b: &tab.b,
+            c: &tab.c,
+            fsal: tab.is_fsal() && !matches!(corr, Correction::Brackets(f) if !f.output.is_empty()),
+            solution_stages: tab.solution_stages(),
+            b_hat: tab.embedded.as_ref().map(|e| &e.b_hat[..]),
+            secondary: tab.embedded.as_ref().and_then(|e| e.secondary.as_ref()).map(|sec| (&sec.b_hat[..], sec.weight)),
+            dense: tab.dense.as_ref().map(|d| d.coeffs.as_flattened()),
+            dense_stages: tab.dense_stages,
+        };
+        let mut k = [Alg::<Sys>::zero(); S];
+        general_step(sys, &data, corr, self.radius_limit, &mut k, t, y0, h, req)
+    }
+}
 
-        // Stage 1: θ₁ = 0, K₁ = f(t₀, y₀).
-        let k0 = match req.f_start {
-            Some(f) => f,
+/// A tableau's coefficients as slices (`S` = `b.len()` stages, `a` and
+/// `dense` row-major with rows of `S`): what the engine's stage loops read,
+/// of the same type for every stage count, so that [`general_step`] is
+/// compiled once per system, not once per system and stage count.
+struct StageData {
+    a: &'static [f64],
+    b: &'static [f64],
+    c: &'static [f64],
+    /// The last stage is at the new state ([`Tableau::is_fsal`] and no
+    /// output commutators).
+    fsal: bool,
+    solution_stages: usize,
+    b_hat: Option<&'static [f64]>,
+    /// DOP853's second embedded solution and its weight.
+    secondary: Option<(&'static [f64], f64)>,
+    dense: Option<&'static [f64]>,
+    dense_stages: Option<&'static DenseStages>,
+}
+
+/// `h Σⱼ (wⱼ − vⱼ) kⱼ` over the non-zero differences: [`combine`] with the
+/// weights `w − v`.
+#[inline(always)]
+fn combine_difference<A: AlgebraVector>(k: &[A], w: &[f64], v: &[f64], h: f64) -> A {
+    let mut acc: Option<A> = None;
+    for ((kj, &wj), &vj) in k.iter().zip(w).zip(v) {
+        let dj = wj - vj;
+        if dj != 0.0 {
+            let term = *kj * (h * dj);
+            acc = Some(match acc {
+                Some(a) => a + term,
+                None => term,
+            });
+        }
+    }
+    acc.unwrap_or_else(A::zero)
+}
+
+/// The engine's step for every tableau ([`Rkmk::step`] without the RK4
+/// kernel), `k` the stage buffer (one slot per stage). Forced inline only
+/// in optimised builds, like [`Rkmk::step`]; in builds with debug
+/// assertions it is one function per system, called by every stage count.
+#[cfg_attr(not(debug_assertions), inline(always))]
+#[allow(clippy::too_many_arguments)]
+fn general_step<Sys: System>(
+    sys: &Sys,
+    tab: &StageData,
+    corr: Correction,
+    radius_limit: f64,
+    k: &mut [Alg<Sys>],
+    t: f64,
+    y0: &Sys::State,
+    h: f64,
+    req: StepRequest<Alg<Sys>>,
+) -> Result<StepOutput<Sys::State>, StepFault>
+where
+    Sys::State: GroupNumerics,
+{
+    type G<Sys> = <Sys as System>::State;
+    let s = k.len();
+    let fsal = tab.fsal;
+    let native_dense = req.dense && tab.dense.is_some();
+    let want_f_end = req.f_end || (req.dense && tab.dense.is_none());
+    let n = if req.error || native_dense || (fsal && want_f_end) { s } else { tab.solution_stages };
+    let mut cost = StepCost::default();
+
+    // Stage 1: θ₁ = 0, K₁ = f(t₀, y₀).
+    let k0 = match req.f_start {
+        Some(f) => f,
+        None => {
+            cost.rhs += 1;
+            eval_stage(sys, t, y0, tab.b[0] != 0.0)?
+        }
+    };
+    k.fill(k0);
+    let mut last_stage_state: Option<G<Sys>> = None;
+    let mut fsal_raw: Option<Alg<Sys>> = None;
+    for i in 1..n {
+        // θᵢ = h Σⱼ aᵢⱼ Kⱼ.
+        let mut th = combine(&k[..i], &tab.a[i * s..i * s + i], h);
+        if let Correction::Brackets(form) = corr {
+            for (stage, term) in form.stages {
+                if *stage == i {
+                    cost.brackets += 1;
+                    th = th + G::<Sys>::bracket(&k[term.left], &k[term.right]) * (h * h * term.coeff);
+                }
+            }
+        }
+        guard::<G<Sys>>(&th, radius_limit, t + tab.c[i] * h, cost)
+            .map_err(|e| stage_fault::<G<Sys>>(&k[..i], tab.c, t, h).unwrap_or(e))?;
+        let yi = y0.compose(&G::<Sys>::exp(&th));
+        cost.exps += 1;
+        cost.rhs += 1;
+        let f = eval_stage(sys, t + tab.c[i] * h, &yi, tab.b[i] != 0.0)?;
+        k[i] = correct::<G<Sys>>(corr, &th, &f, &mut cost);
+        if fsal && i == s - 1 {
+            // θ_S = h Σ a_Sj K_j = Θ (a_S = b): y₀·exp(θ_S) is the new state
+            // before renormalisation and F_S = f(t₁, y₁) starts the next step.
+            last_stage_state = Some(yi);
+            fsal_raw = Some(f);
+        }
+    }
+
+    // Θ = h Σ bᵢ Kᵢ (+ output commutators).
+    let mut theta = combine(&k[..n], &tab.b[..n], h);
+    if let Correction::Brackets(form) = corr {
+        for term in form.output {
+            cost.brackets += 1;
+            theta = theta + G::<Sys>::bracket(&k[term.left], &k[term.right]) * (h * h * term.coeff);
+        }
+    }
+    if !theta.is_finite() {
+        return Err(stage_fault::<G<Sys>>(&k[..n], tab.c, t, h)
+            .unwrap_or(StepFault::NonFinite { source: NonFiniteSource::Increment, t_eval: t + h }));
+    }
+    guard::<G<Sys>>(&theta, radius_limit, t + h, cost)?;
+    let unnormalised = match last_stage_state {
+        Some(y) => y,
+        None => {
+            cost.exps += 1;
+            y0.compose(&G::<Sys>::exp(&theta))
+        }
+    };
+    let y1 = unnormalised.renormalize();
+    if !y1.is_finite() {
+        return Err(StepFault::NonFinite { source: NonFiniteSource::State, t_eval: t + h });
+    }
+
+    let error = match (tab.b_hat, req.error) {
+        (Some(b_hat), true) => {
+            let e1 = combine_difference(k, tab.b, b_hat, h);
+            match tab.secondary {
+                None => Some(e1),
+                Some((sec_b_hat, sec_weight)) => {
+                    // DOP853: err = ‖e₁‖²/√(‖e₁‖² + w‖e₂‖²) = ‖ρe₁‖ with
+                    // ρ = ‖e₁‖/√(‖e₁‖² + w‖e₂‖²), the norms weighted by
+                    // 1/(1 + max(sᵢ(y₀), sᵢ(y₁))) — the driver's norm for
+                    // atol = rtol, up to the common factor tol.
+                    let e2 = combine_difference(k, tab.b, sec_b_hat, h);
+                    let (s0, s1) = (y0.tolerance_scale(), y1.tolerance_scale());
+                    let (mut n1, mut n2) = (0.0, 0.0);
+                    for i in 0..<Alg<Sys> as AlgebraVector>::LEN {
+                        let sc = 1.0 + s0.get(i).max(s1.get(i));
+                        n1 += (e1.get(i) / sc).powi(2);
+                        n2 += (e2.get(i) / sc).powi(2);
+                    }
+                    let den = n1 + sec_weight * n2;
+                    Some(if den > 0.0 { e1 * (n1 / den).sqrt() } else { e1 })
+                }
+            }
+        }
+        _ => None,
+    };
+
+    let f_end = if want_f_end {
+        match fsal_raw {
+            Some(f) => Some(f),
             None => {
                 cost.rhs += 1;
-                eval_stage(sys, t, y0, tab.b[0] != 0.0)?
-            }
-        };
-        let mut k = [k0; S];
-        let mut last_stage_state: Option<G<Sys>> = None;
-        let mut fsal_raw: Option<Alg<Sys>> = None;
-        for i in 1..n {
-            // θᵢ = h Σⱼ aᵢⱼ Kⱼ.
-            let mut th = combine(&k[..i], &tab.a[i][..i], h);
-            if let Correction::Brackets(form) = corr {
-                for (stage, term) in form.stages {
-                    if *stage == i {
-                        cost.brackets += 1;
-                        th = th + G::<Sys>::bracket(&k[term.left], &k[term.right]) * (h * h * term.coeff);
-                    }
-                }
-            }
-            guard::<G<Sys>>(&th, self.radius_limit, t + tab.c[i] * h, cost)
-                .map_err(|e| stage_fault::<G<Sys>, S>(&k[..i], tab, t, h).unwrap_or(e))?;
-            let yi = y0.compose(&G::<Sys>::exp(&th));
-            cost.exps += 1;
-            cost.rhs += 1;
-            let f = eval_stage(sys, t + tab.c[i] * h, &yi, tab.b[i] != 0.0)?;
-            k[i] = correct::<G<Sys>>(corr, &th, &f, &mut cost);
-            if fsal && i == S - 1 {
-                // θ_S = h Σ a_Sj K_j = Θ (a_S = b): y₀·exp(θ_S) is the new state
-                // before renormalisation and F_S = f(t₁, y₁) starts the next step.
-                last_stage_state = Some(yi);
-                fsal_raw = Some(f);
+                Some(eval(sys, t + h, &y1)?)
             }
         }
+    } else {
+        fsal_raw
+    };
 
-        // Θ = h Σ bᵢ Kᵢ (+ output commutators).
-        let mut theta = combine(&k[..n], &tab.b[..n], h);
-        if let Correction::Brackets(form) = corr {
-            for term in form.output {
-                cost.brackets += 1;
-                theta = theta + G::<Sys>::bracket(&k[term.left], &k[term.right]) * (h * h * term.coeff);
+    let dense = if !req.dense {
+        None
+    } else if let Some(dw) = tab.dense {
+        let mut coeffs = [Alg::<Sys>::zero(); DENSE_DEGREE];
+        let mut degree = 0;
+        for (m, c) in coeffs.iter_mut().enumerate() {
+            let row = &dw[m * s..(m + 1) * s];
+            if row.iter().any(|&w| w != 0.0) {
+                *c = combine(k, row, h);
+                degree = m + 1;
             }
         }
-        if !theta.is_finite() {
-            return Err(stage_fault::<G<Sys>, S>(&k[..n], tab, t, h)
-                .unwrap_or(StepFault::NonFinite { source: NonFiniteSource::Increment, t_eval: t + h }));
-        }
-        guard::<G<Sys>>(&theta, self.radius_limit, t + h, cost)?;
-        let unnormalised = match last_stage_state {
-            Some(y) => y,
-            None => {
-                cost.exps += 1;
-                y0.compose(&G::<Sys>::exp(&theta))
+        Some(DensePoly { coeffs, degree })
+    } else if let Some(ds) = tab.dense_stages {
+        let f1 = f_end.unwrap_or_else(Alg::<Sys>::zero);
+        Some(extended_dense::<Sys>(sys, ds, corr, k, &theta, &f1, t, h, y0, radius_limit, &mut cost)?)
+    } else {
+        // Cubic Hermite in θ: θ(0) = 0, θ'(0) = h K₁, θ(1) = Θ,
+        // θ'(1) = h dexp⁻¹_{−Θ} f(t₁, y₁).
+        let f1 = f_end.unwrap_or_else(Alg::<Sys>::zero);
+        let s1 = match corr {
+            Correction::Closed => {
+                cost.dexp_inv += 1;
+                G::<Sys>::dexp_inv(&(-theta), &f1)
+            }
+            _ => {
+                cost.brackets += 2;
+                dexp_inv_series::<G<Sys>>(&(-theta), &f1, 2)
             }
         };
-        let y1 = unnormalised.renormalize();
-        if !y1.is_finite() {
-            return Err(StepFault::NonFinite { source: NonFiniteSource::State, t_eval: t + h });
-        }
+        let (d0, d1) = (k[0] * h, s1 * h);
+        let mut coeffs = [Alg::<Sys>::zero(); DENSE_DEGREE];
+        coeffs[0] = d0;
+        coeffs[1] = theta * 3.0 - d0 * 2.0 - d1;
+        coeffs[2] = d0 + d1 - theta * 2.0;
+        Some(DensePoly { coeffs, degree: 3 })
+    };
 
-        let error = match (&tab.embedded, req.error) {
-            (Some(e), true) => {
-                let mut w = [0.0; S];
-                for (i, wi) in w.iter_mut().enumerate() {
-                    *wi = tab.b[i] - e.b_hat[i];
-                }
-                let e1 = combine(&k, &w, h);
-                match &e.secondary {
-                    None => Some(e1),
-                    Some(sec) => {
-                        // DOP853: err = ‖e₁‖²/√(‖e₁‖² + w‖e₂‖²) = ‖ρe₁‖ with
-                        // ρ = ‖e₁‖/√(‖e₁‖² + w‖e₂‖²), the norms weighted by
-                        // 1/(1 + max(sᵢ(y₀), sᵢ(y₁))) — the driver's norm for
-                        // atol = rtol, up to the common factor tol.
-                        for (i, wi) in w.iter_mut().enumerate() {
-                            *wi = tab.b[i] - sec.b_hat[i];
-                        }
-                        let e2 = combine(&k, &w, h);
-                        let (s0, s1) = (y0.tolerance_scale(), y1.tolerance_scale());
-                        let (mut n1, mut n2) = (0.0, 0.0);
-                        for i in 0..<Alg<Sys> as AlgebraVector>::LEN {
-                            let sc = 1.0 + s0.get(i).max(s1.get(i));
-                            n1 += (e1.get(i) / sc).powi(2);
-                            n2 += (e2.get(i) / sc).powi(2);
-                        }
-                        let den = n1 + sec.weight * n2;
-                        Some(if den > 0.0 { e1 * (n1 / den).sqrt() } else { e1 })
-                    }
-                }
-            }
-            _ => None,
-        };
-
-        let f_end = if want_f_end {
-            match fsal_raw {
-                Some(f) => Some(f),
-                None => {
-                    cost.rhs += 1;
-                    Some(eval(sys, t + h, &y1)?)
-                }
-            }
-        } else {
-            fsal_raw
-        };
-
-        let dense = if !req.dense {
-            None
-        } else if let Some(dw) = &tab.dense {
-            let mut coeffs = [Alg::<Sys>::zero(); DENSE_DEGREE];
-            let mut degree = 0;
-            for (m, c) in coeffs.iter_mut().enumerate() {
-                if dw.coeffs[m].iter().any(|&w| w != 0.0) {
-                    *c = combine(&k, &dw.coeffs[m], h);
-                    degree = m + 1;
-                }
-            }
-            Some(DensePoly { coeffs, degree })
-        } else if let Some(ds) = tab.dense_stages {
-            let f1 = f_end.unwrap_or_else(Alg::<Sys>::zero);
-            Some(extended_dense::<Sys>(sys, ds, corr, &k, &theta, &f1, t, h, y0, self.radius_limit, &mut cost)?)
-        } else {
-            // Cubic Hermite in θ: θ(0) = 0, θ'(0) = h K₁, θ(1) = Θ,
-            // θ'(1) = h dexp⁻¹_{−Θ} f(t₁, y₁).
-            let f1 = f_end.unwrap_or_else(Alg::<Sys>::zero);
-            let s1 = match corr {
-                Correction::Closed => {
-                    cost.dexp_inv += 1;
-                    G::<Sys>::dexp_inv(&(-theta), &f1)
-                }
-                _ => {
-                    cost.brackets += 2;
-                    dexp_inv_series::<G<Sys>>(&(-theta), &f1, 2)
-                }
-            };
-            let (d0, d1) = (k[0] * h, s1 * h);
-            let mut coeffs = [Alg::<Sys>::zero(); DENSE_DEGREE];
-            coeffs[0] = d0;
-            coeffs[1] = theta * 3.0 - d0 * 2.0 - d1;
-            coeffs[2] = d0 + d1 - theta * 2.0;
-            Some(DensePoly { coeffs, degree: 3 })
-        };
-
-        Ok(StepOutput { y: y1, theta, f_start: k[0], f_end, error, dense, cost })
-    }
+    Ok(StepOutput { y: y1, theta, f_start: k[0], f_end, error, dense, cost })
 }
