@@ -145,6 +145,7 @@ impl FrameBundle<2, 3> for Hyperbolic2 {
     }
 
     /// `Λ̇ = Λ·hat(ξ)`: `ẋ = R·(Λ̇)₂`, `q̇ = (Λ̇)₀,₁`.
+    #[inline]
     fn frame_velocity(&self, g: &So12, xi: &SVector<f64, 3>) -> (SVector<f64, 3>, SMatrix<f64, 3, 2>) {
         let ldot = g.matrix() * So12::hat(xi);
         (ldot.column(2) * self.radius(), ldot.fixed_columns::<2>(0).into_owned())

@@ -140,6 +140,7 @@ impl FrameBundle<3, 4> for Sphere3 {
     }
 
     /// `Q̇ = Q·hat(ξ)`: `ẋ = R·(Q̇)₀`, `q̇ = (Q̇)₁,₂,₃`.
+    #[inline]
     fn frame_velocity(&self, g: &So4, xi: &So4Algebra) -> (Vector4<f64>, Matrix4x3<f64>) {
         let qdot = g.matrix() * So4::hat(xi);
         (qdot.column(0) * self.radius(), qdot.fixed_columns::<3>(1).into_owned())

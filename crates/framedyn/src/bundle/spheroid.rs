@@ -213,6 +213,7 @@ impl FrameBundle<2, 3> for Spheroid {
 
     /// `Q̇ = Q·hat(ξ)`: `q̇` its columns 2, 3; `ẋ = (a/W)(Bṅ − Bn(nᵀBṅ)/W²)` from
     /// its first column `ṅ` (see the type docs).
+    #[inline]
     fn frame_velocity(&self, g: &So3, xi: &Vector3<f64>) -> (Vector3<f64>, Matrix3x2<f64>) {
         let q = g.matrix();
         let qdot = q * So3::hat(xi);

@@ -170,6 +170,7 @@ impl FrameBundle<2, 3> for Torus2 {
     /// For `ξ = (θ̇, φ̇, ȧ)`: `ẋ = Rθ̇ Ê_θ + (L + R cos θ)φ̇ Ê_φ`;
     /// `dÊ_θ/dt = −θ̇ n − sin θ φ̇ Ê_φ`, `dÊ_φ/dt = −φ̇ (cos φ, sin φ, 0)`;
     /// `q̇₁ = ȧ q₂ + cos a dÊ_θ + sin a dÊ_φ`, `q̇₂ = −ȧ q₁ − sin a dÊ_θ + cos a dÊ_φ`.
+    #[inline]
     fn frame_velocity(&self, g: &Rn<3>, xi: &SVector<f64, 3>) -> (SVector<f64, 3>, SMatrix<f64, 3, 2>) {
         let (theta, phi, a) = (g.0[0], g.0[1], g.0[2]);
         let (td, pd, ad) = (xi[0], xi[1], xi[2]);
