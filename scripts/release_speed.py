@@ -15,6 +15,13 @@ the default scene with other methods, lengthened so that one run takes
 binaries; the table gives the minimum wall time per scene and the ratio
 candidate / baseline, and the script fails if the two binaries' outputs
 differ in any byte (a profile change must not change the numbers).
+
+    python3 scripts/release_speed.py BASELINE_BIN CANDIDATE_BIN --callgrind
+
+counts instructions instead (valgrind's callgrind, one run per binary and
+scene, each scene 1/32 as long): the same for the same binary and input
+whatever else the machine does, so differences of a few percent that the
+wall times' run-to-run spread hides show (about 20 s of valgrind per run).
 """
 import argparse
 import filecmp
@@ -46,12 +53,12 @@ STRETCH = {"t2-gyroscope-separable": 515, "h2-gyroscope": 865, "s3-gyroscope": 5
            "s3-affine-neo-hookean": 535, "h2-point-kepler": 605, "spheroid-gyroscope": 370}
 
 
-def scene_text(binary, name, method, t_end):
+def scene_text(binary, name, method, t_end, shorten=1.0):
     text = subprocess.run([binary, "scenes", "show", name], check=True, capture_output=True, text=True).stdout
     if method is not None:
         text = re.sub(r"\[method\]\n(?:[^\[\n][^\n]*\n)*", "[method]\n" + method + "\n\n", text, count=1)
     old = float(re.search(r"^t_end = (\S+)", text, re.M).group(1))
-    new = t_end if t_end is not None else old * STRETCH[name]
+    new = (t_end if t_end is not None else old * STRETCH[name]) / shorten
     text = re.sub(r"^t_end = \S+", f"t_end = {new!r}", text, count=1, flags=re.M)
     i = text.index("[output]")
     j = text.find("\n[", i + 1)
@@ -64,6 +71,7 @@ def main():
     ap.add_argument("baseline")
     ap.add_argument("candidate")
     ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--callgrind", action="store_true", help="count instructions (valgrind) instead of timing")
     a = ap.parse_args()
     bins = {"baseline": os.path.abspath(a.baseline), "candidate": os.path.abspath(a.candidate)}
     with tempfile.TemporaryDirectory() as d:
@@ -72,8 +80,13 @@ def main():
             label = name + ("" if method is None else "/" + method.split('"')[1])
             path = os.path.join(d, label.replace("/", "__") + ".toml")
             with open(path, "w") as f:
-                f.write(scene_text(bins["baseline"], name, method, t_end))
+                f.write(scene_text(bins["baseline"], name, method, t_end, 32.0 if a.callgrind else 1.0))
             labels.append((label, path))
+        if a.callgrind:
+            same = count_instructions(bins, labels, d)
+            if not same:
+                sys.exit("the two binaries wrote different outputs")
+            return
         best = {}
         for _ in range(a.rounds):
             for label, path in labels:
@@ -93,6 +106,32 @@ def main():
             print(f"| {label} | {best[label, 'baseline']:.3f} | {best[label, 'candidate']:.3f} | {r:.3f}{'' if equal else ' (outputs differ)'} |")
     if not same:
         sys.exit("the two binaries wrote different outputs")
+
+
+def count_instructions(bins, labels, d):
+    """Instructions of each binary on each scene (callgrind); prints the
+    table and returns whether the outputs agree byte for byte."""
+    counts = {}
+    for label, path in labels:
+        for b, exe in bins.items():
+            out = f"{path}.{b}.csv"
+            cg = subprocess.run(
+                ["valgrind", "--tool=callgrind", f"--callgrind-out-file={os.path.join(d, 'callgrind.out')}",
+                 exe, "run", "-q", path, "-o", out],
+                check=True, capture_output=True, text=True)
+            m = re.search(r"Collected : (\d+)", cg.stderr)
+            if m is None:
+                sys.exit(f"no instruction count from valgrind for {label}: {cg.stderr[-500:]}")
+            counts[label, b] = int(m.group(1))
+    same = True
+    print("| scene / method | baseline (instructions) | candidate (instructions) | candidate / baseline |")
+    print("|---|---|---|---|")
+    for label, path in labels:
+        equal = filecmp.cmp(f"{path}.baseline.csv", f"{path}.candidate.csv", shallow=False)
+        same &= equal
+        base, cand = counts[label, "baseline"], counts[label, "candidate"]
+        print(f"| {label} | {base:,} | {cand:,} | {cand / base:.3f}{'' if equal else ' (outputs differ)'} |")
+    return same
 
 
 if __name__ == "__main__":
