@@ -305,8 +305,14 @@ fn guard_fault<G: GroupNumerics>(theta: &G::Algebra, limit: f64, t_eval: f64, do
 /// explicit zero element unless every weight vanishes).
 #[inline(always)]
 fn combine<A: AlgebraVector>(k: &[A], w: &[f64], h: f64) -> A {
+    combine_weights(k, w.iter().copied(), h)
+}
+
+/// [`combine`] with the weights given one by one.
+#[inline(always)]
+fn combine_weights<A: AlgebraVector>(k: &[A], w: impl Iterator<Item = f64>, h: f64) -> A {
     let mut acc: Option<A> = None;
-    for (kj, &wj) in k.iter().zip(w) {
+    for (kj, wj) in k.iter().zip(w) {
         if wj != 0.0 {
             let term = *kj * (h * wj);
             acc = Some(match acc {
@@ -548,18 +554,7 @@ struct StageData {
 /// weights `w − v`.
 #[inline(always)]
 fn combine_difference<A: AlgebraVector>(k: &[A], w: &[f64], v: &[f64], h: f64) -> A {
-    let mut acc: Option<A> = None;
-    for ((kj, &wj), &vj) in k.iter().zip(w).zip(v) {
-        let dj = wj - vj;
-        if dj != 0.0 {
-            let term = *kj * (h * dj);
-            acc = Some(match acc {
-                Some(a) => a + term,
-                None => term,
-            });
-        }
-    }
-    acc.unwrap_or_else(A::zero)
+    combine_weights(k, w.iter().zip(v).map(|(&wj, &vj)| wj - vj), h)
 }
 
 /// The engine's step for every tableau ([`Rkmk::step`] without the RK4
