@@ -1007,6 +1007,48 @@ fn driver_bookkeeping() {
     assert!(ratio > 10.0 && ratio < 25.0);
 }
 
+/// Measures: a sink's own error stops the run and reaches the caller as
+/// `DriveError::Sink` with its value, at the state reached before the
+/// failing save (fixed and adaptive steps, with an event set); the states the
+/// sink took before it failed are those of an undisturbed run.
+#[test]
+fn a_failing_sink_stops_the_run_with_its_own_error() {
+    use framedyn::solve::{drive, Control, DriveError, Sink};
+
+    #[derive(Debug, PartialEq)]
+    struct Full(usize);
+    struct FailsAt {
+        limit: usize,
+        times: Vec<f64>,
+    }
+    impl Sink<Body> for FailsAt {
+        type Error = Full;
+        fn save(&mut self, t: f64, _y: &Body) -> Result<(), Full> {
+            if self.times.len() == self.limit {
+                return Err(Full(self.limit));
+            }
+            self.times.push(t);
+            Ok(())
+        }
+    }
+
+    let (sys, y0) = rigid_body().into_parts();
+    let problem = Problem::new(sys.clone(), y0, (0.0, 1.0)).unwrap();
+    for (label, options) in [("fixed", Options::fixed(0.05)), ("adaptive", Options::adaptive(1e-9, 1e-9))] {
+        let options = options.save(Save::Steps).event(Event::new("axis", axis_height));
+        let whole = solve(&problem, &Rkmk::dopri5(), &options).unwrap();
+        assert!(whole.times().len() > 5, "{label}: the run saves more states than the sink takes");
+        let mut sink = FailsAt { limit: 4, times: Vec::new() };
+        let events = [Event::new("axis", axis_height)];
+        let mut ev: &[Event<Body>] = &events;
+        let out = drive(&sys, &Rkmk::dopri5(), 0.0, &y0, 1.0, options.settings(), &mut ev, &mut sink, &mut Control::default());
+        assert_eq!(out.stop, Err(DriveError::Sink(Full(4))), "{label}");
+        assert_eq!(sink.times, whole.times()[..4], "{label}: the states saved before the failure");
+        assert_eq!(out.t, whole.times()[3], "{label}: stopped at the last state the sink took");
+        assert!(dist(&out.y, &whole.states()[3]) == 0.0, "{label}: the state reached is the last one saved");
+    }
+}
+
 /// Measures: the Stepper's `system_mut` changes the dynamics between steps
 /// (identical to two separate runs), `advance` lands exactly on t + duration,
 /// and the work counters match the method (RK4: 4 evaluations per step).

@@ -225,6 +225,21 @@ impl<const S: usize> Rkmk<S> {
         }
     }
 
+    /// [`Method::info`], which depends on the method only (so it is compiled
+    /// once per stage count, not once per system).
+    fn method_info(&self) -> MethodInfo {
+        MethodInfo {
+            name: self.name,
+            order: self.tableau.order,
+            embedded_order: self.tableau.embedded.map(|e| e.estimate_order()),
+            dense_order: self.dense_order(),
+            stages: S,
+            fsal: self.tableau.is_fsal()
+                && !matches!(self.correction(), Correction::Brackets(f) if !f.output.is_empty()),
+            radius_limit: self.radius_limit,
+        }
+    }
+
     /// Order of the dense output: the tableau's continuous extension, else
     /// the cubic Hermite interpolant in `θ` (local error `O(h^{min(p,3)+1})`).
     fn dense_order(&self) -> u32 {
@@ -483,16 +498,7 @@ where
     Sys::State: GroupNumerics,
 {
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            name: self.name,
-            order: self.tableau.order,
-            embedded_order: self.tableau.embedded.map(|e| e.estimate_order()),
-            dense_order: self.dense_order(),
-            stages: S,
-            fsal: self.tableau.is_fsal()
-                && !matches!(self.correction(), Correction::Brackets(f) if !f.output.is_empty()),
-            radius_limit: self.radius_limit,
-        }
+        self.method_info()
     }
 
     // Forced inline only in optimised builds, where inlining specialises the

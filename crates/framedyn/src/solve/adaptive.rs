@@ -6,15 +6,15 @@ use crate::dynamics::System;
 use crate::lie::{dexp_inv_series, AlgebraVector, LieGroup};
 use crate::method::{GroupNumerics, MethodInfo};
 
-/// Checks the tolerances, step bounds and controller, and that the method
-/// has an embedded pair.
-pub(super) fn validate<G: LieGroup>(a: &Adaptive, info: &MethodInfo) -> Result<(), SolveError> {
+/// Checks the tolerances (per-component ones against the `len` components
+/// of the state's algebra), step bounds and controller, and that the method
+/// has an embedded pair. Not generic, so compiled once.
+pub(super) fn validate(a: &Adaptive, info: &MethodInfo, len: usize) -> Result<(), SolveError> {
     if info.embedded_order.is_none() {
         return Err(SolveError::InvalidOptions {
             reason: format!("adaptive stepping needs an embedded pair; {} has none", info.name),
         });
     }
-    let len = <G::Algebra as AlgebraVector>::LEN;
     for (name, tol) in [("rtol", &a.rtol), ("atol", &a.atol)] {
         let values: Vec<f64> = match tol {
             super::Tol::Scalar(v) => vec![*v],

@@ -46,7 +46,7 @@ use super::event::{brent_dyn, Direction, Event, EventRecord};
 use super::{adaptive, fault_error, Adaptive, DenseSegment, Save, SolveError, Stats, StepSize, StopReason};
 use crate::dynamics::System;
 use crate::lie::{AlgebraVector, LieGroup};
-use crate::method::{Alg, GroupNumerics, Method, MethodInfo, NonFiniteSource, StepFault, StepOutput, StepRequest};
+use crate::method::{Alg, GroupNumerics, Method, MethodError, MethodInfo, NonFiniteSource, StepFault, StepOutput, StepRequest};
 
 /// Accepted steps between two polls of [`Control`] (cancel flag, progress).
 pub const POLL_EVERY: usize = 256;
@@ -208,6 +208,12 @@ pub fn fixed_step_count(t0: f64, t_end: f64, h: f64) -> Result<usize, SolveError
 /// tolerances and controller ([`Adaptive`]), sample times within the span,
 /// `max_steps ≥ 1`, a finite event tolerance.
 pub fn validate<G: LieGroup>(settings: &Settings, info: &MethodInfo, t0: f64, t_end: f64) -> Result<(), SolveError> {
+    validate_len(settings, info, t0, t_end, <G::Algebra as AlgebraVector>::LEN)
+}
+
+/// [`validate`] for a state algebra of `len` components (not generic, so
+/// compiled once).
+fn validate_len(settings: &Settings, info: &MethodInfo, t0: f64, t_end: f64, len: usize) -> Result<(), SolveError> {
     if settings.max_steps == 0 {
         return Err(SolveError::InvalidOptions { reason: "max_steps must be ≥ 1".into() });
     }
@@ -228,7 +234,7 @@ pub fn validate<G: LieGroup>(settings: &Settings, info: &MethodInfo, t0: f64, t_
     }
     match &settings.step {
         StepSize::Fixed(h) => fixed_step_count(t0, t_end, *h).map(|_| ()),
-        StepSize::Adaptive(a) => adaptive::validate::<G>(a, info),
+        StepSize::Adaptive(a) => adaptive::validate(a, info, len),
     }
 }
 
@@ -258,6 +264,118 @@ where
     K: Sink<S::State>,
     Ev: EventSet<S::State> + ?Sized,
 {
+    drive_with(system, erase(method), t0, y0, t_end, settings, events, sink, control)
+}
+
+/// A [`Method`] as the loop calls it. `Method` cannot be a trait object (it
+/// is `Clone`); this can, so that builds with debug assertions compile the
+/// loop once per system rather than once per system, method, sink and
+/// event set ([`erase`]).
+pub(crate) trait StepMethod<S: System> {
+    /// [`Method::info`].
+    fn info(&self) -> MethodInfo;
+    /// [`Method::check`].
+    fn check(&self, system: &S) -> Result<(), MethodError>;
+    /// [`Method::step`].
+    fn step(&self, system: &S, t: f64, y0: &S::State, h: f64, request: StepRequest<Alg<S>>) -> Result<StepOutput<S::State>, StepFault>;
+}
+
+impl<S: System, M: Method<S>> StepMethod<S> for M {
+    #[inline]
+    fn info(&self) -> MethodInfo {
+        Method::info(self)
+    }
+    #[inline]
+    fn check(&self, system: &S) -> Result<(), MethodError> {
+        Method::check(self, system)
+    }
+    #[inline]
+    fn step(&self, system: &S, t: f64, y0: &S::State, h: f64, request: StepRequest<Alg<S>>) -> Result<StepOutput<S::State>, StepFault> {
+        Method::step(self, system, t, y0, h, request)
+    }
+}
+
+/// The method as the loop takes it. With debug assertions (the dev and test
+/// profiles) a trait object: the loop's functions are then compiled once
+/// per system, which keeps the test build small (docs/development.md,
+/// "What a fresh build is made of"); the loop makes one indirect call per
+/// step, to a function that does a whole step.
+#[cfg(debug_assertions)]
+#[inline]
+pub(crate) fn erase<S: System, M: Method<S>>(method: &M) -> &dyn StepMethod<S> {
+    method
+}
+
+/// The method as the loop takes it. In optimised builds the method itself,
+/// so that its step is inlined into the loop and specialised on the loop's
+/// request (docs/development.md, "Profiles").
+#[cfg(not(debug_assertions))]
+#[inline]
+pub(crate) fn erase<S: System, M: Method<S>>(method: &M) -> &M {
+    method
+}
+
+/// [`drive`] with a method given as [`erase`] leaves it. With debug
+/// assertions the event set and the sink are trait objects too (the sink's
+/// error kept aside by [`Stash`]), so that [`Run`] has one instance per
+/// system.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn drive_with<S, M, K, Ev>(
+    system: &S,
+    method: &M,
+    t0: f64,
+    y0: &S::State,
+    t_end: f64,
+    settings: &Settings,
+    events: &mut Ev,
+    sink: &mut K,
+    control: &mut Control<'_>,
+) -> Outcome<S::State, K::Error>
+where
+    S: System,
+    S::State: GroupNumerics,
+    M: StepMethod<S> + ?Sized,
+    K: Sink<S::State> + ?Sized,
+    Ev: EventSet<S::State> + ?Sized,
+{
+    #[cfg(debug_assertions)]
+    {
+        let mut events = Forward(events);
+        let mut stash = Stash { sink, error: None };
+        let out = run(system, method, t0, y0, t_end, settings, &mut events as &mut dyn EventSet<S::State>, &mut stash as &mut dyn Sink<S::State, Error = Stashed>, control);
+        let stop = match out.stop {
+            Ok(reason) => Ok(reason),
+            Err(DriveError::Solve(e)) => Err(DriveError::Solve(e)),
+            Err(DriveError::Sink(Stashed)) => match stash.error.take() {
+                Some(e) => Err(DriveError::Sink(e)),
+                None => Err(DriveError::Solve(SolveError::InvalidOptions { reason: "internal: a sink failure without its error".into() })),
+            },
+        };
+        Outcome { stop, t: out.t, y: out.y, stats: out.stats }
+    }
+    #[cfg(not(debug_assertions))]
+    run(system, method, t0, y0, t_end, settings, events, sink, control)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn run<S, M, K, Ev>(
+    system: &S,
+    method: &M,
+    t0: f64,
+    y0: &S::State,
+    t_end: f64,
+    settings: &Settings,
+    events: &mut Ev,
+    sink: &mut K,
+    control: &mut Control<'_>,
+) -> Outcome<S::State, K::Error>
+where
+    S: System,
+    S::State: GroupNumerics,
+    M: StepMethod<S> + ?Sized,
+    K: Sink<S::State> + ?Sized,
+    Ev: EventSet<S::State> + ?Sized,
+{
     let info = method.info();
     let mut run = Run {
         sys: system,
@@ -285,6 +403,68 @@ where
     Outcome { stop, t: run.t, y: run.y, stats: run.stats }
 }
 
+/// The event set of a run, behind a reference that can become a trait object.
+#[cfg(debug_assertions)]
+struct Forward<'a, Ev: ?Sized>(&'a mut Ev);
+
+#[cfg(debug_assertions)]
+impl<G: ?Sized, Ev: EventSet<G> + ?Sized> EventSet<G> for Forward<'_, Ev> {
+    fn count(&self) -> usize {
+        self.0.count()
+    }
+    fn direction(&self, k: usize) -> Direction {
+        self.0.direction(k)
+    }
+    fn terminal(&self, k: usize) -> bool {
+        self.0.terminal(k)
+    }
+    fn values(&mut self, t: f64, y: &G, out: &mut [f64]) {
+        self.0.values(t, y, out)
+    }
+    fn value(&mut self, k: usize, t: f64, y: &G) -> f64 {
+        self.0.value(k, t, y)
+    }
+}
+
+/// The marker a [`Stash`] returns in place of its sink's error.
+#[cfg(debug_assertions)]
+struct Stashed;
+
+/// A sink that keeps its inner sink's error aside and returns [`Stashed`],
+/// so that sinks of every error type share one trait object type.
+#[cfg(debug_assertions)]
+struct Stash<'a, K: ?Sized + Sink<G>, G: LieGroup> {
+    sink: &'a mut K,
+    error: Option<K::Error>,
+}
+
+#[cfg(debug_assertions)]
+impl<G: LieGroup, K: ?Sized + Sink<G>> Stash<'_, K, G> {
+    fn keep(&mut self, r: Result<(), K::Error>) -> Result<(), Stashed> {
+        r.map_err(|e| {
+            self.error = Some(e);
+            Stashed
+        })
+    }
+}
+
+#[cfg(debug_assertions)]
+impl<G: LieGroup, K: ?Sized + Sink<G>> Sink<G> for Stash<'_, K, G> {
+    type Error = Stashed;
+    fn save(&mut self, t: f64, y: &G) -> Result<(), Stashed> {
+        let r = self.sink.save(t, y);
+        self.keep(r)
+    }
+    fn step(&mut self, segment: &StepSegment<'_, G>) -> Result<(), Stashed> {
+        let r = self.sink.step(segment);
+        self.keep(r)
+    }
+    fn event(&mut self, record: &EventRecord<G>) -> Result<(), Stashed> {
+        let r = self.sink.event(record);
+        self.keep(r)
+    }
+}
+
 /// Per-event state: the last value and the last non-zero sign (0 before the
 /// first non-zero value).
 #[derive(Debug, Clone, Copy)]
@@ -301,7 +481,7 @@ fn sign_of(v: f64) -> f64 {
     }
 }
 
-struct Run<'a, 'c, S: System, M, Ev: ?Sized, K> {
+struct Run<'a, 'c, S: System, M: ?Sized, Ev: ?Sized, K: ?Sized> {
     sys: &'a S,
     method: &'a M,
     info: MethodInfo,
@@ -330,8 +510,8 @@ impl<S, M, Ev, K> Run<'_, '_, S, M, Ev, K>
 where
     S: System,
     S::State: GroupNumerics,
-    M: Method<S>,
-    K: Sink<S::State>,
+    M: StepMethod<S> + ?Sized,
+    K: Sink<S::State> + ?Sized,
     Ev: EventSet<S::State> + ?Sized,
 {
     fn go(&mut self) -> Result<StopReason, DriveError<K::Error>> {
@@ -727,7 +907,7 @@ fn interpolate<S, M>(
 where
     S: System,
     S::State: GroupNumerics,
-    M: Method<S>,
+    M: StepMethod<S> + ?Sized,
 {
     if tau == t {
         return Ok(*y0);

@@ -77,6 +77,17 @@ where
     S::State: GroupNumerics,
     M: Method<S>,
 {
+    solve_with(problem, driver::erase(method), options)
+}
+
+/// [`solve`] with the method as [`driver::erase`] leaves it (one instance
+/// per system in builds with debug assertions).
+fn solve_with<S, M>(problem: &Problem<S>, method: &M, options: &Options<S::State>) -> Result<Solution<S::State>, Failure<S::State>>
+where
+    S: System,
+    S::State: GroupNumerics,
+    M: driver::StepMethod<S> + ?Sized,
+{
     let sys = problem.system();
     let mut names: Vec<String> = Vec::new();
     if options.energy {
@@ -109,7 +120,7 @@ where
         }
     }
     let mut events: &[Event<S::State>] = &options.events;
-    let out = drive(sys, method, problem.t0(), problem.y0(), problem.t_end(), &options.settings, &mut events, &mut sink, &mut Control::default());
+    let out = driver::drive_with(sys, method, problem.t0(), problem.y0(), problem.t_end(), &options.settings, &mut events, &mut sink, &mut Control::default());
     let mut sol = sink.sol;
     sol.stats = out.stats;
     sol.t_last = out.t;
