@@ -60,6 +60,13 @@ fi
 # The dev profile's opt-level-0 exceptions must not reach a binary of ours
 # (Cargo.toml explains why; a few seconds of `cargo metadata`).
 "$PY" scripts/check_profile.py
+# The downstream crate's lock file (scripts/release_check.sh builds it with
+# --locked, long after this script) must follow the workspace's dependency
+# changes: checked here in a second, rather than at the end of CI.
+if ! cargo metadata --locked --format-version 1 --manifest-path examples/downstream/Cargo.toml >/dev/null; then
+    echo "examples/downstream/Cargo.lock is out of date: run 'cargo metadata --format-version 1 --manifest-path examples/downstream/Cargo.toml >/dev/null' and commit it" >&2
+    exit 1
+fi
 # `--tests --examples`, not `--all-targets`: the test harnesses of every
 # library that has tests (the CLI's; the core, the extension and
 # framedyn-tests have none, `test = false`), the integration tests and the
