@@ -14,11 +14,36 @@ use proptest::prelude::*;
 
 const BIN: &str = env!("CARGO_BIN_EXE_framedyn");
 
-fn tmpdir(tag: &str) -> PathBuf {
+/// A test's scratch directory, removed when the test passes and kept when
+/// it fails (for inspection: the path is in the panic's messages).
+struct Scratch(PathBuf);
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
+fn tmpdir(tag: &str) -> Scratch {
     let d = std::env::temp_dir().join(format!("framedyn-cli-{tag}-{}", std::process::id()));
     let _ = fs::remove_dir_all(&d);
     fs::create_dir_all(&d).unwrap();
-    d
+    Scratch(d)
 }
 
 fn framedyn(args: &[&str], dir: &Path) -> Output {
@@ -134,7 +159,6 @@ fn every_embedded_scene_matches_the_library() {
         assert_eq!(header, sink.columns.iter().map(|c| c.name.clone()).collect::<Vec<_>>());
         assert!(same_rows(&rows, &sink.rows), "{name}: CSV differs from the library records");
     }
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// `run` without a scene runs the default scene into `trajectory.csv`.
@@ -162,7 +186,6 @@ fn default_run_and_listing() {
     let o = framedyn(&["scenes", "show", "nope"], &dir);
     assert_eq!(code(&o), 3);
     assert!(stderr(&o).contains(DEFAULT_SCENE));
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// The npz archive holds the same numbers as the CSV, and numpy reads it.
@@ -192,7 +215,6 @@ fn npz_round_trip() {
             eprintln!("numpy not available: {}", String::from_utf8_lossy(&out.stderr));
         }
     }
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// Exit codes and messages: invalid scene (field, line, column), unknown
@@ -251,7 +273,6 @@ fn exit_codes_and_messages() {
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     let leftovers: Vec<_> = fs::read_dir(&dir).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().contains(".tmp-")).collect();
     assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// Tolerances out of range are scene errors (exit 3) naming the field, the
@@ -280,7 +301,6 @@ fn tolerance_errors_and_the_global_error_line() {
     assert!(stdout(&o).contains("global error:    estimated max"), "{}", stdout(&o));
     let o = framedyn(&["run", "--output", "plain.csv"], &dir);
     assert!(!stdout(&o).contains("global error"), "{}", stdout(&o));
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// SIGINT, SIGTERM and SIGHUP stop a long run cleanly: exit 128 + signal,
@@ -316,7 +336,6 @@ fn signals_keep_a_valid_partial_result() {
     }
     let leftovers: Vec<_> = fs::read_dir(&dir).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().starts_with('.')).collect();
     assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// A run whose output could reach hundreds of GB is announced before it
@@ -340,7 +359,6 @@ fn huge_outputs_are_announced() {
     let e = stderr(&o);
     assert!(e.contains("note: this run can write up to 1000000002 records") && e.contains("GB as csv") && e.contains("output.every"), "{e}");
     assert_eq!(code(&o), 143, "{e}");
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// Runs `args` in `dir`, killing it if it has not ended after `limit`.
@@ -409,7 +427,6 @@ fn free_space_is_checked_before_a_run() {
     let per_value = fs::metadata(dir.join("small.csv")).unwrap().len() as f64 / values;
     assert!((0.5 * CSV_BYTES_PER_VALUE..=1.5 * CSV_BYTES_PER_VALUE).contains(&per_value), "{per_value} bytes per value");
     assert!(OutputEstimate::new(rows.len() as u64, header.len(), framedyn::scenes::Format::Csv).file_bytes >= values * per_value);
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// The output policy: symbolic links written through, special and
@@ -470,7 +487,6 @@ fn output_policy() {
     assert!(!dir.join("k.csv").exists());
     let leftovers: Vec<_> = fs::read_dir(&dir).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().starts_with('.')).collect();
     assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// Peak resident memory (kB) of a run, polled from /proc while it runs.
@@ -528,7 +544,6 @@ fn streaming_memory_is_flat() {
         eprintln!("{fmt}: peak RSS {small} kB for 1e5 records, {large} kB for 1e6 ({size} bytes written)");
         assert!(large < small + 8_000, "{fmt}: peak RSS {small} kB for 1e5 records, {large} kB for 1e6");
     }
-    let _ = fs::remove_dir_all(&dir);
 }
 
 proptest! {
@@ -560,7 +575,6 @@ proptest! {
         prop_assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
         if c == 3 { prop_assert!(stderr(&o).contains("invalid scene") || stderr(&o).contains("no scene")); }
         if choice >= 1 && choice <= 3 { prop_assert_eq!(c, 3); }
-        let _ = fs::remove_dir_all(&dir);
     }
 }
 
@@ -603,7 +617,6 @@ fn methods_and_events_files() {
         assert_eq!(r[2..], e.row[..]);
         assert_eq!((r[0], r[1]), (1.0, 0.0));
     }
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// An invalid parameter is reported at that parameter: also when a
@@ -643,7 +656,6 @@ fn errors_name_the_parameter_at_fault() {
         assert_eq!(code(&o), 3, "{scene}: {}", stderr(&o));
         assert!(stderr(&o).contains(&format!("`{field}`")), "{scene} with {line}: {}", stderr(&o));
     }
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// The quality check: a finished run whose energy drift exceeds the limit
@@ -674,7 +686,6 @@ fn quality_check() {
     let o = framedyn(&["run", "--output", "default.csv"], &dir);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     assert!(stdout(&o).contains("quality:         ok"), "{}", stdout(&o));
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// `framedyn sweep`: a CSV table of members gives one npz whose members
@@ -717,7 +728,6 @@ fn sweep_writes_every_member() {
     assert_eq!(code(&o), 3);
     assert!(stderr(&o).contains("body.colour"), "{}", stderr(&o));
     assert!(!dir.join("bad.npz").exists());
-    let _ = fs::remove_dir_all(&dir);
 }
 
 // ---------------------------------------------------------------------------
@@ -815,7 +825,6 @@ fn sali_tells_chaotic_from_regular() {
         assert_eq!(code(&o), 2, "{args:?}: {}", stderr(&o));
         assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
     }
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// `megno` prints the library's `Scene::megno` values and writes the running
@@ -856,7 +865,6 @@ fn megno_prints_the_library_values_and_writes_the_running_values() {
         assert_eq!(code(&o), exit, "{args:?}: {}", stderr(&o));
         assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
     }
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// `section` writes the crossings as CSV (`rising` then every record column)
@@ -931,5 +939,4 @@ fn sali_and_megno_map_a_member_table() {
         assert_eq!(code(&o), 2, "{args:?}: {}", stderr(&o));
         assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
     }
-    let _ = fs::remove_dir_all(&dir);
 }
