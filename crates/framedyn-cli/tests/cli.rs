@@ -14,8 +14,9 @@ use proptest::prelude::*;
 
 const BIN: &str = env!("CARGO_BIN_EXE_framedyn");
 
-/// A test's scratch directory, removed when the test passes and kept when
-/// it fails (for inspection: the path is in the panic's messages).
+/// A test's scratch directory (`framedyn-cli-TAG-PID` in the system's
+/// temporary directory), removed when the test passes and kept when it
+/// fails, for inspection.
 struct Scratch(PathBuf);
 
 impl std::ops::Deref for Scratch {
