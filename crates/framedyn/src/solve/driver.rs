@@ -269,8 +269,8 @@ where
 
 /// A [`Method`] as the loop calls it. `Method` cannot be a trait object (it
 /// is `Clone`); this can, so that builds with debug assertions compile the
-/// loop once per system rather than once per system, method, sink and
-/// event set ([`erase`]).
+/// loop once per system rather than once per system and method
+/// ([`erase`]).
 pub(crate) trait StepMethod<S: System> {
     /// [`Method::info`].
     fn info(&self) -> MethodInfo;
@@ -315,10 +315,13 @@ pub(crate) fn erase<S: System, M: Method<S>>(method: &M) -> &M {
     method
 }
 
-/// [`drive`] with a method given as [`erase`] leaves it. With debug
-/// assertions the event set and the sink are trait objects too (the sink's
-/// error kept aside by [`Stash`]), so that [`Run`] has one instance per
-/// system.
+/// [`drive`] with a method given as [`erase`] leaves it. The event set and
+/// the sink reach the loop as trait objects (the sink's error kept aside by
+/// [`Stash`]), in every profile: [`Run`] then has one instance per system
+/// and method, not one per system, method, sink and event set (the scene
+/// engine runs each model with two sinks: its records, and none when it
+/// only steps). The price is a few indirect calls per step, small next to
+/// a step (docs/development.md, "Profiles").
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn drive_with<S, M, K, Ev>(
     system: &S,
@@ -338,23 +341,18 @@ where
     K: Sink<S::State> + ?Sized,
     Ev: EventSet<S::State> + ?Sized,
 {
-    #[cfg(debug_assertions)]
-    {
-        let mut events = Forward(events);
-        let mut stash = Stash { sink, error: None };
-        let out = run(system, method, t0, y0, t_end, settings, &mut events as &mut dyn EventSet<S::State>, &mut stash as &mut dyn Sink<S::State, Error = Stashed>, control);
-        let stop = match out.stop {
-            Ok(reason) => Ok(reason),
-            Err(DriveError::Solve(e)) => Err(DriveError::Solve(e)),
-            Err(DriveError::Sink(Stashed)) => match stash.error.take() {
-                Some(e) => Err(DriveError::Sink(e)),
-                None => Err(DriveError::Solve(SolveError::InvalidOptions { reason: "internal: a sink failure without its error".into() })),
-            },
-        };
-        Outcome { stop, t: out.t, y: out.y, stats: out.stats }
-    }
-    #[cfg(not(debug_assertions))]
-    run(system, method, t0, y0, t_end, settings, events, sink, control)
+    let mut events = Forward(events);
+    let mut stash = Stash { sink, error: None };
+    let out = run(system, method, t0, y0, t_end, settings, &mut events as &mut dyn EventSet<S::State>, &mut stash as &mut dyn Sink<S::State, Error = Stashed>, control);
+    let stop = match out.stop {
+        Ok(reason) => Ok(reason),
+        Err(DriveError::Solve(e)) => Err(DriveError::Solve(e)),
+        Err(DriveError::Sink(Stashed)) => match stash.error.take() {
+            Some(e) => Err(DriveError::Sink(e)),
+            None => Err(DriveError::Solve(SolveError::InvalidOptions { reason: "internal: a sink failure without its error".into() })),
+        },
+    };
+    Outcome { stop, t: out.t, y: out.y, stats: out.stats }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -404,10 +402,8 @@ where
 }
 
 /// The event set of a run, behind a reference that can become a trait object.
-#[cfg(debug_assertions)]
 struct Forward<'a, Ev: ?Sized>(&'a mut Ev);
 
-#[cfg(debug_assertions)]
 impl<G: ?Sized, Ev: EventSet<G> + ?Sized> EventSet<G> for Forward<'_, Ev> {
     fn count(&self) -> usize {
         self.0.count()
@@ -427,18 +423,15 @@ impl<G: ?Sized, Ev: EventSet<G> + ?Sized> EventSet<G> for Forward<'_, Ev> {
 }
 
 /// The marker a [`Stash`] returns in place of its sink's error.
-#[cfg(debug_assertions)]
 struct Stashed;
 
 /// A sink that keeps its inner sink's error aside and returns [`Stashed`],
 /// so that sinks of every error type share one trait object type.
-#[cfg(debug_assertions)]
 struct Stash<'a, K: ?Sized + Sink<G>, G: LieGroup> {
     sink: &'a mut K,
     error: Option<K::Error>,
 }
 
-#[cfg(debug_assertions)]
 impl<G: LieGroup, K: ?Sized + Sink<G>> Stash<'_, K, G> {
     fn keep(&mut self, r: Result<(), K::Error>) -> Result<(), Stashed> {
         r.map_err(|e| {
@@ -448,7 +441,6 @@ impl<G: LieGroup, K: ?Sized + Sink<G>> Stash<'_, K, G> {
     }
 }
 
-#[cfg(debug_assertions)]
 impl<G: LieGroup, K: ?Sized + Sink<G>> Sink<G> for Stash<'_, K, G> {
     type Error = Stashed;
     fn save(&mut self, t: f64, y: &G) -> Result<(), Stashed> {
