@@ -16,9 +16,9 @@
 //! **Newton.** The residual `F(Θ) = Θ − h f(t₀ + h/2, y₀ exp(Θ/2))` is solved
 //! by simplified Newton iterations from the explicit guess `Θ₀ = h f(t₀, y₀)`,
 //! with the Jacobian `I − h ∂f/∂Θ` by forward differences (one evaluation of
-//! `f` per algebra component), factored by faer's partial-pivoting dense LU
-//! on stack buffers (no heap allocation for algebras of up to [`MAX_DIM`]
-//! components). The Jacobian is refreshed once if the iteration contracts
+//! `f` per algebra component), factored by nalgebra's partial-pivoting dense
+//! LU (a few heap allocations per step; why not faer: docs/development.md,
+//! "Dependencies"). The Jacobian is refreshed once if the iteration contracts
 //! slower than `1/2`. Converged when the update falls below `tol·max(1, |Θ|)`
 //! (max norm); otherwise — too many iterations, a non-finite value, or a
 //! singular Jacobian — the step fails with [`StepFault::NoConvergence`]
@@ -29,11 +29,7 @@
 //! *Lie-group methods*, Acta Numerica 9 (2000) 215–365. \[HLW06\] E. Hairer,
 //! C. Lubich, G. Wanner, *Geometric Numerical Integration*, 2nd ed., Springer 2006.
 
-use std::mem::MaybeUninit;
-
-use faer::dyn_stack::MemStack;
-use faer::linalg::lu::partial_pivoting::{factor, solve};
-use faer::{MatMut, MatRef, Par};
+use nalgebra::{DMatrix, DVector, Dyn, LU};
 
 use super::group::GroupNumerics;
 use super::{Alg, DensePoly, Method, MethodInfo, NonFiniteSource, StepCost, StepFault, StepOutput, StepRequest};
@@ -42,14 +38,6 @@ use crate::lie::{dexp_inv_series, AlgebraVector, LieGroup};
 use super::MethodError;
 
 use super::tableau::DENSE_DEGREE;
-
-/// Largest number of algebra components solved on the stack (larger algebras
-/// use a heap buffer per step).
-pub const MAX_DIM: usize = 48;
-
-/// Bytes of faer scratch space (permutation workspaces of `MAX_DIM` indices
-/// and one column, with alignment slack).
-const SCRATCH: usize = 16 * MAX_DIM + 1024;
 
 /// The implicit Lie midpoint rule (order 2, symmetric).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -85,41 +73,37 @@ impl ImplicitMidpoint {
     }
 }
 
-/// Work buffers of one step: the Jacobian (column-major), the right-hand
-/// side, the permutations and faer's scratch space.
-struct Work<'a> {
+/// Work buffers of one step: the Jacobian, the right-hand side (the
+/// update after [`Work::solve`]) and the Jacobian's LU factors.
+struct Work {
     n: usize,
-    jac: &'a mut [f64],
-    rhs: &'a mut [f64],
-    perm: &'a mut [usize],
-    perm_inv: &'a mut [usize],
-    scratch: &'a mut [MaybeUninit<u8>],
+    jac: DMatrix<f64>,
+    rhs: DVector<f64>,
+    lu: Option<LU<f64, Dyn, Dyn>>,
 }
 
-impl Work<'_> {
-    /// LU-factors `jac` in place; false if a pivot is zero or not finite.
+impl Work {
+    fn new(n: usize) -> Self {
+        Work { n, jac: DMatrix::zeros(n, n), rhs: DVector::zeros(n), lu: None }
+    }
+
+    /// LU-factors the Jacobian (partial pivoting); false if it is not
+    /// finite or a pivot is zero.
     fn factor(&mut self) -> bool {
         if self.jac.iter().any(|v| !v.is_finite()) {
             return false;
         }
-        let n = self.n;
-        let mat = MatMut::from_column_major_slice_mut(&mut self.jac[..n * n], n, n);
-        let stack = MemStack::new(self.scratch);
-        let _ = factor::lu_in_place(mat, &mut self.perm[..n], &mut self.perm_inv[..n], Par::Seq, stack, Default::default());
-        (0..n).all(|i| {
-            let d = self.jac[i * n + i];
-            d != 0.0 && d.is_finite()
-        })
+        let lu = self.jac.clone().lu();
+        let ok = lu.is_invertible();
+        self.lu = Some(lu);
+        ok
     }
 
     /// Solves `J x = rhs` in place in `rhs` with the factors.
     fn solve(&mut self) {
-        let n = self.n;
-        let lu = MatRef::from_column_major_slice(&self.jac[..n * n], n, n);
-        let perm = faer::perm::PermRef::new_checked(&self.perm[..n], &self.perm_inv[..n], n);
-        let rhs = MatMut::from_column_major_slice_mut(&mut self.rhs[..n], n, 1);
-        let stack = MemStack::new(self.scratch);
-        solve::solve_in_place(lu, lu, perm, rhs, Par::Seq, stack);
+        if let Some(lu) = &self.lu {
+            lu.solve_mut(&mut self.rhs);
+        }
     }
 }
 
@@ -148,7 +132,7 @@ impl ImplicitMidpoint {
             cost.exps += 1;
             for i in 0..n {
                 let dg = (gp.get(i) - g0.get(i)) / d;
-                w.jac[j * n + i] = if i == j { 1.0 } else { 0.0 } - h * dg;
+                w.jac[(i, j)] = if i == j { 1.0 } else { 0.0 } - h * dg;
             }
         }
     }
@@ -253,23 +237,8 @@ where
         if !f0.is_finite() {
             return Err(StepFault::NonFinite { source: NonFiniteSource::VectorField, t_eval: t });
         }
-        let theta = if n <= MAX_DIM {
-            let mut jac = [0.0f64; MAX_DIM * MAX_DIM];
-            let mut rhs = [0.0f64; MAX_DIM];
-            let mut perm = [0usize; MAX_DIM];
-            let mut perm_inv = [0usize; MAX_DIM];
-            let mut scratch = [MaybeUninit::<u8>::uninit(); SCRATCH];
-            let mut w = Work { n, jac: &mut jac, rhs: &mut rhs, perm: &mut perm, perm_inv: &mut perm_inv, scratch: &mut scratch };
-            self.newton(sys, t, y0, h, &f0, &mut w, &mut cost)?
-        } else {
-            let mut jac = vec![0.0f64; n * n];
-            let mut rhs = vec![0.0f64; n];
-            let mut perm = vec![0usize; n];
-            let mut perm_inv = vec![0usize; n];
-            let mut scratch = vec![MaybeUninit::<u8>::uninit(); 16 * n + 1024];
-            let mut w = Work { n, jac: &mut jac, rhs: &mut rhs, perm: &mut perm, perm_inv: &mut perm_inv, scratch: &mut scratch };
-            self.newton(sys, t, y0, h, &f0, &mut w, &mut cost)?
-        };
+        let mut w = Work::new(n);
+        let theta = self.newton(sys, t, y0, h, &f0, &mut w, &mut cost)?;
         let y1 = y0.compose(&S::State::exp(&theta)).renormalize();
         cost.exps += 1;
         if !y1.is_finite() {

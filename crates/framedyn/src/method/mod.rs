@@ -20,7 +20,7 @@
 //! - [`Splitting`]: symplectic splitting with exact free flows for the
 //!   systems that are [`Splittable`](crate::dynamics::Splittable) (gyroscopes and points on S², H², S³);
 //! - [`ImplicitMidpoint`]: the symmetric implicit Lie midpoint rule for any
-//!   system (Newton with a faer LU);
+//!   system (Newton with an LU);
 //! - [`baseline`]: classical RK4 / DOPRI5 on the paper's chart equations;
 //! - [`registry`]: every method by name — display name, family, order,
 //!   stepping, what it needs and its constructor — the one list that scenes,
