@@ -76,7 +76,6 @@ impl ImplicitMidpoint {
 /// Work buffers of one step: the Jacobian, the right-hand side (the
 /// update after [`Work::solve`]) and the Jacobian's LU factors.
 struct Work {
-    n: usize,
     jac: DMatrix<f64>,
     rhs: DVector<f64>,
     lu: Option<LU<f64, Dyn, Dyn>>,
@@ -84,7 +83,7 @@ struct Work {
 
 impl Work {
     fn new(n: usize) -> Self {
-        Work { n, jac: DMatrix::zeros(n, n), rhs: DVector::zeros(n), lu: None }
+        Work { jac: DMatrix::zeros(n, n), rhs: DVector::zeros(n), lu: None }
     }
 
     /// LU-factors the Jacobian (partial pivoting); false if it is not
@@ -122,7 +121,7 @@ impl ImplicitMidpoint {
     /// Forward-difference Jacobian of `F(Θ) = Θ − hG(Θ)` at `Θ` with
     /// `G(Θ) = g0` known; `n` evaluations.
     fn jacobian<S: System>(sys: &S, tm: f64, y0: &S::State, theta: &Alg<S>, g0: &Alg<S>, h: f64, w: &mut Work, cost: &mut StepCost) {
-        let n = w.n;
+        let n = w.rhs.len();
         for j in 0..n {
             let d = 1e-7 * theta.get(j).abs().max(1e-2);
             let mut tp = *theta;
@@ -139,7 +138,7 @@ impl ImplicitMidpoint {
 
     fn newton<S: System>(&self, sys: &S, t: f64, y0: &S::State, h: f64, f0: &Alg<S>, w: &mut Work, cost: &mut StepCost) -> Result<Alg<S>, StepFault> {
         let tm = t + 0.5 * h;
-        let n = w.n;
+        let n = w.rhs.len();
         let mut theta = *f0 * h;
         let fail = |iterations: u32, residual: f64| StepFault::NoConvergence { iterations, residual, t_eval: tm };
         let mut g = Self::g(sys, tm, y0, &theta);
