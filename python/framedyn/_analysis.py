@@ -29,7 +29,8 @@ class LyapunovResult:
     their batch-means standard errors; ``spread``: max − min of each running
     estimate over the second half of the run (how far from converged);
     ``times`` and ``running`` (shape ``(len(times), k)``): the running
-    estimates at every re-orthonormalisation; ``steps``: fixed steps taken;
+    estimates at every re-orthonormalisation; ``steps``: steps taken (fixed,
+    or accepted error-controlled ones);
     ``steps_per_step``: steps of the method per step (1 + 2 per tangent
     vector, 4 with fourth-order differences); ``state_dimension``: the
     number of exponents of the full spectrum; ``two_trajectory``: with
@@ -59,8 +60,9 @@ class MegnoResult:
     if chaotic, → 0 if regular); ``lyapunov``: the finite-time exponent
     ``log(|δ(T)|/|δ(0)|)/T`` of the same tangent vector; ``times``,
     ``running_megno``, ``running_mean``: ``Y`` and ``⟨Y⟩`` along the run
-    (every step, thinned to at most 10 000 and the last); ``steps``: fixed
-    steps taken; ``steps_per_step``: steps of the method per step."""
+    (every step, thinned to at most 10 000 and the last); ``steps``: steps
+    taken (fixed, or accepted error-controlled ones); ``steps_per_step``:
+    steps of the method per step."""
 
     megno: float
     mean: float
@@ -193,9 +195,11 @@ def lyapunov(
     two_trajectory: bool = False,
 ) -> LyapunovResult:
     """The Lyapunov exponents of ``scene``'s trajectory: its method with its
-    fixed step ``method.h`` over its time span, carrying tangent vectors
-    ``δy = y·ξ`` (Lie-algebra coordinates) by the tangent map of each step,
-    re-orthonormalised every ``every`` steps (Benettin's discrete QR).
+    steps over its time span (a fixed step ``method.h``, or ``rtol``/``atol``:
+    the steps a run would take, chosen by the trajectory's error alone),
+    carrying tangent vectors ``δy = y·ξ`` (Lie-algebra coordinates) by the
+    tangent map of each step at its size, re-orthonormalised every
+    ``every`` steps (Benettin's discrete QR).
 
     ``exponents``: how many (largest first), or ``"all"`` (the dimension of
     the state group: the phase space plus the parallel frame's gauge
@@ -206,10 +210,11 @@ def lyapunov(
     second order, ``eps = 1e-5``; fourth order ``eps = 1e-3``);
     ``two_trajectory``: also the two-nearby-trajectory estimate.
 
-    Raises :class:`InvalidInputError` (a ``ValueError``) for a bad option or a
-    scene without a fixed step or with a coordinate method, ``TypeError`` for
-    an argument of the wrong type, :class:`IntegrationError` when a step
-    fails; Ctrl-C raises ``KeyboardInterrupt``."""
+    Raises :class:`InvalidInputError` (a ``ValueError``) for a bad option, a
+    scene with a coordinate method, or an error-controlled run too short for
+    ``batches`` (its steps are not known before it), ``TypeError`` for an
+    argument of the wrong type, :class:`IntegrationError` when a step fails;
+    Ctrl-C raises ``KeyboardInterrupt``."""
     s = _scene(scene)
     if isinstance(exponents, str):
         if exponents != "all":
@@ -297,7 +302,8 @@ def sali(scene: Union[Scene, Mapping[str, Any]], *, threshold: float = 1e-8, see
     """The Smaller Alignment Index (Skokos 2001) of ``scene``'s trajectory: a
     fast chaos indicator for maps over initial conditions. Two tangent
     vectors are carried by the tangent map of each step (the scene's method
-    and fixed step ``method.h``) and normalised; ``SALI = min(|u₁ + u₂|,
+    and steps, fixed or error-controlled, as for :func:`lyapunov`) and
+    normalised; ``SALI = min(|u₁ + u₂|,
     |u₁ − u₂|)`` falls like ``exp(−(λ₁ − λ₂)t)`` on a chaotic orbit and stays
     away from 0 on a regular one. The run stops when SALI falls below
     ``threshold``. ``eps`` and ``fourth_order``: the central differences of
@@ -320,18 +326,19 @@ def megno(scene: Union[Scene, Mapping[str, Any]], *, seed: int = 1, eps: Optiona
     """MEGNO, the Mean Exponential Growth factor of Nearby Orbits (Cincotta &
     Simó 2000), of ``scene``'s trajectory: a fast chaos indicator from one
     tangent vector carried by the tangent map of each step (the scene's
-    method and fixed step ``method.h``, over its time span). Discrete form
-    (Cincotta, Giordano & Simó 2003): ``Y(t_N) = (2/t_N) Σ t_k log(|δ_k| /
-    |δ_{k−1}|)``, ``⟨Y⟩(t_N) = (1/t_N) Σ h Y(t_k)``.
+    method and steps, fixed or error-controlled, as for :func:`lyapunov`,
+    over its time span). Discrete form (Cincotta, Giordano & Simó 2003):
+    ``Y(t_N) = (2/t_N) Σ t_k log(|δ_k| / |δ_{k−1}|)``, ``⟨Y⟩(t_N) = (1/t_N)
+    Σ h Y(t_k)`` (``t_k`` from the start, ``h`` the ``k``-th step's size).
 
     ``seed``: of the random initial tangent vector; ``eps`` and
     ``fourth_order``: the central differences of the step map, as for
     :func:`lyapunov`.
 
     Raises :class:`InvalidInputError` (a ``ValueError``) for a bad option or
-    a scene without a fixed step or with a coordinate method, ``TypeError``
-    for an argument of the wrong type, :class:`IntegrationError` when a step
-    fails; Ctrl-C raises ``KeyboardInterrupt``."""
+    a scene with a coordinate method, ``TypeError`` for an argument of the
+    wrong type, :class:`IntegrationError` when a step fails; Ctrl-C raises
+    ``KeyboardInterrupt``."""
     s = _scene(scene)
     _bools(fourth_order=fourth_order)
     raw = _framedyn.megno(s._native, check_int(seed, "seed", 0, _U64_MAX), None if eps is None else _real(eps, "eps"), fourth_order)
@@ -364,7 +371,8 @@ def chaos_map(
     member is the scene with its row applied, and its values are exactly
     (bit for bit) those of :func:`sali` and :func:`megno` on that scene
     alone with the same ``threshold``, ``seed``, ``eps`` and
-    ``fourth_order``: its method, fixed step ``method.h`` and time span.
+    ``fourth_order``: its method, steps (fixed ``method.h`` or
+    ``rtol``/``atol``) and time span.
     ``sali``, ``megno``: which indicators (at least one). ``threads``:
     worker threads (default one per core; never more than the members, nor
     than the cores unless ``oversubscribe=True``).

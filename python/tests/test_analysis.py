@@ -72,8 +72,12 @@ def test_bad_input_is_typed():
     with pytest.raises(TypeError):
         fd.lyapunov(42)
     d = scene.to_dict()
-    d["method"] = {"name": "dopri5", "rtol": 1e-8}
-    with pytest.raises(fd.InvalidInputError, match="method.h"):
+    d["method"] = {"name": "rk4", "rtol": 1e-8}
+    with pytest.raises(fd.InvalidInputError, match="embedded pair"):
+        fd.lyapunov(fd.Scene.from_dict(d))
+    d["method"] = {"name": "dopri5", "rtol": 1e-6, "atol": 1e-6}
+    d["time"]["t_end"] = 0.05
+    with pytest.raises(fd.InvalidInputError, match="batches"):
         fd.lyapunov(fd.Scene.from_dict(d))
     with pytest.raises(fd.InvalidInputError, match="section.normal"):
         fd.section(scene, plane=[1.0, 0.0])
@@ -142,11 +146,19 @@ def test_megno_regular_and_chaotic_scenes():
         fd.megno(kepler, fourth_order=1)
     with pytest.raises(TypeError):
         fd.megno(kepler, eps="small")
+    # Error-controlled steps: the same indicator on the regular Kepler orbit,
+    # in fewer steps than the fixed h = 0.005 (40 000 over T = 200).
     adaptive = kepler.to_dict()
-    adaptive["method"].update(name="dopri5", rtol=1e-8)
+    adaptive["method"].update(name="dop853", rtol=1e-10, atol=1e-10)
     del adaptive["method"]["h"]
-    with pytest.raises(fd.InvalidInputError, match="method.h"):
-        fd.megno(fd.Scene.from_dict(adaptive))
+    adaptive["time"]["t_end"] = 200.0
+    a = fd.megno(fd.Scene.from_dict(adaptive))
+    assert abs(a.mean - 2.0) < 0.1 and abs(a.slope) < 0.005, (a.mean, a.slope)
+    assert a.steps < 10000 and a.times[-1] == 200.0 and np.all(np.diff(a.times) > 0)
+    s = fd.sali(fd.Scene.from_dict(adaptive))
+    assert s["chaotic_at"] is None and s["steps"] == a.steps
+    exps = fd.lyapunov(fd.Scene.from_dict(adaptive), exponents="all")
+    assert exps.steps == a.steps and abs(sum(exps.exponents)) < 1e-6
 
 
 def _kepler_map_table():

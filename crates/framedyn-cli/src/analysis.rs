@@ -145,6 +145,20 @@ fn write_atomically(path: &Path, text: &str) -> Result<(), (u8, String)> {
     Ok(())
 }
 
+/// The steps of an analysis, for its summary: "of h = 0.005", or
+/// "error-controlled (rtol 1e-10, atol 1e-10)".
+fn describe(step: &framedyn::solve::StepSize) -> String {
+    use framedyn::solve::{StepSize, Tol};
+    let tol = |t: &Tol| match t {
+        Tol::Scalar(v) => format!("{v:e}"),
+        Tol::PerComponent(v) => format!("per component, {} values", v.len()),
+    };
+    match step {
+        StepSize::Fixed(h) => format!("of h = {h:?}"),
+        StepSize::Adaptive(a) => format!("error-controlled (rtol {}, atol {})", tol(&a.rtol), tol(&a.atol)),
+    }
+}
+
 /// `framedyn lyapunov`.
 pub fn lyapunov(scene: &Scene, origin: &str, args: &LyapunovArgs) -> Result<(), (u8, String)> {
     let cancel = signals::arm();
@@ -186,7 +200,7 @@ pub fn lyapunov(scene: &Scene, origin: &str, args: &LyapunovArgs) -> Result<(), 
     }
     println!("scene:           {origin}");
     println!("state dimension: {dof} (exponents computed: {})", e.exponents.len());
-    println!("steps:           {} of h = {:?} ({} method steps each)", e.steps, opts.h, e.steps_per_step);
+    println!("steps:           {} {} ({} method steps each)", e.steps, describe(&opts.step), e.steps_per_step);
     println!("wall time:       {wall:.3} s");
     println!("{:>3}  {:>12}  {:>10}  {:>10}", "i", "exponent", "stderr", "spread");
     for (i, ((l, s), w)) in e.exponents.iter().zip(&e.stderr).zip(&e.spread).enumerate() {
@@ -231,7 +245,7 @@ pub fn sali(scene: &Scene, origin: &str, args: &SaliArgs) -> Result<(), (u8, Str
     let started = std::time::Instant::now();
     let e = scene.sali(&opts, cancel).map_err(|e| error(origin, e))?;
     println!("scene:           {origin}");
-    println!("steps:           {} of h = {:?}", e.steps, opts.h);
+    println!("steps:           {} {}", e.steps, describe(&opts.step));
     println!("wall time:       {:.3} s", started.elapsed().as_secs_f64());
     println!("sali:            {:.6e} (at the end of the run)", e.sali);
     println!("min:             {:.6e}", e.min);
@@ -274,7 +288,7 @@ pub fn megno(scene: &Scene, origin: &str, args: &MegnoArgs) -> Result<(), (u8, S
         write_atomically(path, &text)?;
     }
     println!("scene:           {origin}");
-    println!("steps:           {} of h = {:?} ({} method steps each)", e.steps, opts.h, e.steps_per_step);
+    println!("steps:           {} {} ({} method steps each)", e.steps, describe(&opts.step), e.steps_per_step);
     println!("wall time:       {wall:.3} s");
     println!("megno:           {:.6} (Y at the end of the run)", e.megno);
     println!("mean:            {:.6} (<Y>: 2 quasi-periodic, 0 stable periodic, ~lambda_1 t/2 chaotic)", e.mean);

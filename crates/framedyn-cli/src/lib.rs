@@ -152,7 +152,7 @@ enum Command {
         #[arg(long)]
         no_space_check: bool,
     },
-    /// Lyapunov exponents of a scene's trajectory (its method and fixed step h, tangent map of each step).
+    /// Lyapunov exponents of a scene's trajectory (its method and steps, fixed or error-controlled; tangent map of each step).
     Lyapunov {
         /// Scene file (.toml or .json) or embedded scene name.
         scene: String,
@@ -177,7 +177,7 @@ enum Command {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
-    /// SALI, the Smaller Alignment Index, of a scene's trajectory: a fast chaos indicator (its method and fixed step h).
+    /// SALI, the Smaller Alignment Index, of a scene's trajectory: a fast chaos indicator (its method and steps, fixed or error-controlled).
     Sali {
         /// Scene file (.toml or .json) or embedded scene name.
         scene: String,
@@ -192,7 +192,7 @@ enum Command {
         #[arg(short, long, requires = "table")]
         output: Option<PathBuf>,
     },
-    /// MEGNO of a scene's trajectory: a fast chaos indicator from one tangent vector (its method and fixed step h).
+    /// MEGNO of a scene's trajectory: a fast chaos indicator from one tangent vector (its method and steps, fixed or error-controlled).
     Megno {
         /// Scene file (.toml or .json) or embedded scene name.
         scene: String,

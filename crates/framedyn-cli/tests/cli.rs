@@ -759,7 +759,8 @@ fn lyapunov_prints_the_spectrum_and_writes_running_estimates() {
 }
 
 /// Bad options exit 2 naming the option and its range; an unsuitable scene
-/// exits 3 naming the field.
+/// exits 3 naming the field; an error-controlled scene is analysed with its
+/// steps.
 #[test]
 fn lyapunov_and_section_refuse_bad_input() {
     let dir = tmpdir("lyapunov-bad");
@@ -784,9 +785,18 @@ fn lyapunov_and_section_refuse_bad_input() {
     s.method.h = None;
     s.method.rtol = Some(1e-8);
     fs::write(&adaptive, s.to_toml_string()).unwrap();
+    s.method.atol = Some(1e-8);
+    fs::write(&adaptive, s.to_toml_string()).unwrap();
+    // Error-controlled steps are taken, and said so.
+    let o = framedyn(&["lyapunov", adaptive.to_str().unwrap()], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stdout(&o).contains("error-controlled (rtol 1e-8, atol 1e-8)"), "{}", stdout(&o));
+    // A method without an error estimate cannot take them: the scene is refused.
+    s.method.name = "rk4".into();
+    fs::write(&adaptive, s.to_toml_string()).unwrap();
     let o = framedyn(&["lyapunov", adaptive.to_str().unwrap()], &dir);
     assert_eq!(code(&o), 3, "{}", stderr(&o));
-    assert!(stderr(&o).contains("method.h"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("method.rtol") && stderr(&o).contains("embedded pair"), "{}", stderr(&o));
 }
 
 /// The S² gyroscope of the atlas's tilted map (docs/integrability.md), a
@@ -850,17 +860,25 @@ fn megno_prints_the_library_values_and_writes_the_running_values() {
     assert_eq!(rows.len(), e.times.len());
     assert_eq!(rows.last().unwrap(), &vec![300.0, e.megno, e.mean]);
 
+    // An error-controlled scene is analysed with its steps.
     let adaptive = dir.join("adaptive.toml");
     let mut s = example("s2-point-kepler").unwrap();
     s.method.name = "dopri5".into();
     s.method.h = None;
     s.method.rtol = Some(1e-8);
     fs::write(&adaptive, s.to_toml_string()).unwrap();
+    let o = framedyn(&["megno", adaptive.to_str().unwrap()], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stdout(&o).contains("error-controlled (rtol 1e-8"), "{}", stdout(&o));
+    let chart = dir.join("chart.toml");
+    let mut s = example("s2-point-kepler").unwrap();
+    s.method.name = "coordinate_rk4".into();
+    fs::write(&chart, s.to_toml_string()).unwrap();
     for (args, needle, exit) in [
         (&["megno", "s2-point-kepler", "--eps", "1"][..], "invalid --eps = 1: must be finite, ≥ 1e-12 and ≤ 0.1", 2),
         (&["megno", "s2-point-kepler", "--eps=-1e-5"][..], "invalid --eps = -0.00001", 2),
         (&["megno", "s2-point-kepler", "--seed", "x"][..], "--seed", 2),
-        (&["megno", adaptive.to_str().unwrap()][..], "method.h", 3),
+        (&["megno", chart.to_str().unwrap()][..], "method.name", 3),
     ] {
         let o = framedyn(args, &dir);
         assert_eq!(code(&o), exit, "{args:?}: {}", stderr(&o));

@@ -2,24 +2,27 @@
 //! and the two-trajectory estimate of the maximal exponent (see the
 //! [module documentation](super)).
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 
 use nalgebra::DMatrix;
 
-use super::tangent::{step_with_tangents, Linearisation};
+use super::tangent::{tangent_images, Linearisation};
+use super::walk::{plan, walk, History, Next};
 use super::AnalysisError;
 use crate::dynamics::System;
 use crate::lie::LieGroup;
 use crate::method::{GroupNumerics, Method, StepRequest};
-use crate::solve::fault_error;
+use crate::solve::{fault_error, StepSize};
 
 /// Settings of [`lyapunov_spectrum`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct LyapunovOptions {
-    /// Fixed step `h > 0`.
-    pub h: f64,
-    /// Integration time `T > 0` (including the transient); `round(T/h)` steps
-    /// of equal size.
+    /// The steps: fixed (`h > 0`: equal steps of size at most `h`, as a run's,
+    /// [`fixed_step_count`](crate::solve::fixed_step_count)) or
+    /// error-controlled (the trajectory's error alone chooses them; the
+    /// tangent map is that of each accepted step at its size).
+    pub step: StepSize,
+    /// Integration time `T > 0` (including the transient).
     pub duration: f64,
     /// Number `k` of exponents, `1 ≤ k ≤ DOF` (the largest `k`: the first `k`
     /// columns of the QR iteration).
@@ -42,7 +45,12 @@ impl LyapunovOptions {
     /// All defaults but the step and the duration: the largest exponent,
     /// re-orthonormalised every 10 steps, no transient, 10 batches.
     pub fn new(h: f64, duration: f64) -> Self {
-        LyapunovOptions { h, duration, exponents: 1, renormalise_every: 10, transient: 0.0, batches: 10, seed: 1, linearisation: Linearisation::default() }
+        Self::with_step(StepSize::Fixed(h), duration)
+    }
+
+    /// [`new`](Self::new) with fixed or error-controlled steps.
+    pub fn with_step(step: StepSize, duration: f64) -> Self {
+        LyapunovOptions { step, duration, exponents: 1, renormalise_every: 10, transient: 0.0, batches: 10, seed: 1, linearisation: Linearisation::default() }
     }
 
     /// With `k` exponents.
@@ -51,18 +59,22 @@ impl LyapunovOptions {
         self
     }
 
-    fn steps(&self, dof: usize) -> Result<usize, AnalysisError> {
-        check_common(self.h, self.duration, self.transient, self.renormalise_every, self.batches)?;
+    /// The number of fixed steps (`None`: error-controlled), all settings checked.
+    fn steps(&self, dof: usize) -> Result<Option<usize>, AnalysisError> {
+        let n = check_common(&self.step, self.duration, self.transient, self.renormalise_every, self.batches)?;
         self.linearisation.validate()?;
         if !(1..=dof).contains(&self.exponents) {
             return Err(AnalysisError::invalid("exponents", self.exponents, format!("between 1 and {dof} (the state group's dimension)")));
         }
-        count(self.h, self.duration, self.transient, self.renormalise_every, self.batches)
+        Ok(n)
     }
 }
 
-fn check_common(h: f64, duration: f64, transient: f64, every: usize, batches: usize) -> Result<(), AnalysisError> {
-    super::check_span(h, duration)?;
+/// Checks the settings common to both estimates; the number of fixed steps
+/// (`None`: error-controlled), checked to leave at least one
+/// re-orthonormalisation per batch after the transient.
+fn check_common(step: &StepSize, duration: f64, transient: f64, every: usize, batches: usize) -> Result<Option<usize>, AnalysisError> {
+    let n = plan(step, duration)?;
     if !(transient.is_finite() && transient >= 0.0 && transient < duration) {
         return Err(AnalysisError::invalid("transient", transient, format!("finite, ≥ 0 and < duration = {duration}")));
     }
@@ -72,23 +84,32 @@ fn check_common(h: f64, duration: f64, transient: f64, every: usize, batches: us
     if !(2..=MAX_HISTORY).contains(&batches) {
         return Err(AnalysisError::invalid("batches", batches, format!("between 2 and {MAX_HISTORY}")));
     }
-    Ok(())
+    if let (StepSize::Fixed(h), Some(n)) = (step, n) {
+        // After a transient, the first re-orthonormalisation past it starts the averages.
+        let h_run = duration / n as f64;
+        let averaged = (((duration - transient) / h_run).floor() as usize / every).saturating_sub(usize::from(transient > 0.0));
+        if averaged < batches {
+            return Err(AnalysisError::invalid(
+                "duration",
+                duration,
+                format!("long enough for {batches} batches of re-orthonormalisations after the transient (now {averaged} of every {every} steps of h = {h})"),
+            ));
+        }
+    }
+    Ok(n)
 }
 
-/// The number of steps, checked to leave at least one re-orthonormalisation
-/// per batch after the transient.
-fn count(h: f64, duration: f64, transient: f64, every: usize, batches: usize) -> Result<usize, AnalysisError> {
-    let n = super::step_count(h, duration)?;
-    // After a transient, the first re-orthonormalisation past it starts the averages.
-    let averaged = (((duration - transient) / h).floor() as usize / every).saturating_sub(usize::from(transient > 0.0));
-    if averaged < batches {
+/// After an error-controlled run (whose steps are not known in advance):
+/// enough re-orthonormalisations after the transient for the batches.
+fn check_batches(recorded: usize, duration: f64, batches: usize, every: usize) -> Result<(), AnalysisError> {
+    if recorded < batches {
         return Err(AnalysisError::invalid(
             "duration",
             duration,
-            format!("long enough for {batches} batches of re-orthonormalisations after the transient (now {averaged} of every {every} steps of h = {h})"),
+            format!("long enough for {batches} batches of re-orthonormalisations after the transient (this run made {recorded}, one every {every} steps)"),
         ));
     }
-    Ok(n)
+    Ok(())
 }
 
 /// Exponents and their diagnostics.
@@ -169,34 +190,40 @@ pub(crate) fn history_stride(n: usize, every: usize) -> usize {
 struct Accumulator {
     t_start: f64,
     sums: Vec<f64>,
-    times: Vec<f64>,
-    cumulative: Vec<Vec<f64>>,
+    history: History<Vec<f64>>,
 }
 
 impl Accumulator {
-    fn new(k: usize, t_start: f64) -> Self {
-        Accumulator { t_start, sums: vec![0.0; k], times: Vec::new(), cumulative: Vec::new() }
+    /// Recording every `stride`-th re-orthonormalisation (`None`: as many as
+    /// [`History::growing`] keeps).
+    fn new(k: usize, t_start: f64, stride: Option<usize>) -> Self {
+        let history = stride.map_or_else(History::growing, History::every);
+        Accumulator { t_start, sums: vec![0.0; k], history }
     }
 
-    /// Adds one re-orthonormalisation's logarithms; records the running
-    /// sums when `record` (the history is thinned to at most
-    /// [`MAX_HISTORY`] rows and the last, so that its memory does not grow with the run).
-    fn add(&mut self, t: f64, logs: impl Iterator<Item = f64>, record: bool) {
+    /// Adds one re-orthonormalisation's logarithms and offers the running
+    /// sums to the history (thinned to at most [`MAX_HISTORY`] rows and the
+    /// `last`, so that its memory does not grow with the run).
+    fn add(&mut self, t: f64, logs: impl Iterator<Item = f64>, last: bool) {
         for (s, l) in self.sums.iter_mut().zip(logs) {
             *s += l;
         }
-        if record {
-            self.times.push(t);
-            self.cumulative.push(self.sums.clone());
-        }
+        let sums = &self.sums;
+        self.history.offer(t, || sums.clone(), last);
+    }
+
+    /// The running sums recorded.
+    fn recorded(&self) -> usize {
+        self.history.rows().len()
     }
 
     /// `(estimates, stderr, spread, times, running)`.
     #[allow(clippy::type_complexity)]
     fn finish(self, batches: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<Vec<f64>>) {
         let k = self.sums.len();
-        let n = self.times.len();
-        let running: Vec<Vec<f64>> = self.times.iter().zip(&self.cumulative).map(|(t, s)| s.iter().map(|x| x / (t - self.t_start)).collect()).collect();
+        let (times, cumulative): (Vec<f64>, Vec<Vec<f64>>) = self.history.into_rows().into_iter().unzip();
+        let n = times.len();
+        let running: Vec<Vec<f64>> = times.iter().zip(&cumulative).map(|(t, s)| s.iter().map(|x| x / (t - self.t_start)).collect()).collect();
         let estimates = running.last().cloned().unwrap_or_else(|| vec![f64::NAN; k]);
         let mut stderr = vec![0.0; k];
         let mut spread = vec![0.0; k];
@@ -204,7 +231,7 @@ impl Accumulator {
         let at = |i: Option<usize>| -> (f64, Vec<f64>) {
             match i {
                 None => (self.t_start, vec![0.0; k]),
-                Some(i) => (self.times[i], self.cumulative[i].clone()),
+                Some(i) => (times[i], cumulative[i].clone()),
             }
         };
         for c in 0..k {
@@ -223,12 +250,8 @@ impl Accumulator {
             let (lo, hi) = half.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| (lo.min(r[c]), hi.max(r[c])));
             spread[c] = hi - lo;
         }
-        (estimates, stderr, spread, self.times, running)
+        (estimates, stderr, spread, times, running)
     }
-}
-
-fn cancelled(cancel: Option<&AtomicBool>) -> bool {
-    cancel.is_some_and(|c| c.load(Ordering::Relaxed))
 }
 
 /// The `k` largest Lyapunov exponents of the trajectory of `method` from
@@ -243,42 +266,34 @@ where
     let dof = S::State::DOF;
     let n = opts.steps(dof)?;
     super::check_start(t0, y0)?;
-    let h = opts.duration / n as f64;
     let mut cols = random_frame(dof, opts.exponents, opts.seed);
-    let mut y = *y0;
-    let mut t = t0;
     let t_avg = t0 + opts.transient;
-    let mut acc = (opts.transient == 0.0).then(|| Accumulator::new(opts.exponents, t0));
-    let (stride, mut renorms) = (history_stride(n, opts.renormalise_every), 0usize);
-    for i in 0..n {
-        if cancelled(cancel) {
-            return Err(AnalysisError::Cancelled { t });
-        }
-        let t1 = t0 + h * (i + 1) as f64;
-        y = step_with_tangents(system, method, t, &y, t1 - t, &mut cols, &opts.linearisation)?;
-        t = t1;
-        if (i + 1) % opts.renormalise_every == 0 || i + 1 == n {
-            let r = orthonormalise(&mut cols, t)?;
+    let stride = n.map(|n| history_stride(n, opts.renormalise_every));
+    let mut acc = (opts.transient == 0.0).then(|| Accumulator::new(opts.exponents, t0, stride));
+    let walked = walk(system, method, t0, y0, &opts.step, opts.duration, cancel, |s| {
+        tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut cols, &opts.linearisation)?;
+        if s.index % opts.renormalise_every == 0 || s.last {
+            let r = orthonormalise(&mut cols, s.t1)?;
             match &mut acc {
-                Some(a) => {
-                    renorms += 1;
-                    a.add(t, r.iter().map(|x| x.ln()), renorms % stride == 0 || i + 1 == n)
-                }
-                None if t >= t_avg - 0.5 * h => acc = Some(Accumulator::new(opts.exponents, t)),
+                Some(a) => a.add(s.t1, r.iter().map(|x| x.ln()), s.last),
+                None if s.t1 >= t_avg - 0.5 * s.h => acc = Some(Accumulator::new(opts.exponents, s.t1, stride)),
                 None => {}
             }
         }
-    }
+        Ok(Next::Go)
+    })?;
     let acc = acc.ok_or_else(|| AnalysisError::invalid("transient", opts.transient, "shorter than the run"))?;
+    check_batches(acc.recorded(), opts.duration, opts.batches, opts.renormalise_every)?;
     let (exponents, stderr, spread, times, running) = acc.finish(opts.batches);
-    Ok(LyapunovEstimate { exponents, stderr, spread, times, running, steps: n, steps_per_step: 1 + opts.exponents * opts.linearisation.steps_per_column() })
+    Ok(LyapunovEstimate { exponents, stderr, spread, times, running, steps: walked.steps, steps_per_step: 1 + opts.exponents * opts.linearisation.steps_per_column() })
 }
 
 /// Settings of [`two_trajectory`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct TwoTrajectoryOptions {
-    /// Fixed step `h > 0`.
-    pub h: f64,
+    /// Fixed or error-controlled steps, as [`LyapunovOptions::step`] (the
+    /// companion takes the trajectory's steps).
+    pub step: StepSize,
     /// Integration time `T > 0` (including the transient).
     pub duration: f64,
     /// The separation `d₀` the companion is renormalised to (algebra
@@ -297,7 +312,12 @@ pub struct TwoTrajectoryOptions {
 impl TwoTrajectoryOptions {
     /// `d₀ = 1e-8`, renormalised every 10 steps, no transient, 10 batches.
     pub fn new(h: f64, duration: f64) -> Self {
-        TwoTrajectoryOptions { h, duration, separation: 1e-8, renormalise_every: 10, transient: 0.0, batches: 10, seed: 1 }
+        Self::with_step(StepSize::Fixed(h), duration)
+    }
+
+    /// [`new`](Self::new) with fixed or error-controlled steps.
+    pub fn with_step(step: StepSize, duration: f64) -> Self {
+        TwoTrajectoryOptions { step, duration, separation: 1e-8, renormalise_every: 10, transient: 0.0, batches: 10, seed: 1 }
     }
 }
 
@@ -331,52 +351,42 @@ where
     S::State: GroupNumerics,
     M: Method<S>,
 {
-    check_common(opts.h, opts.duration, opts.transient, opts.renormalise_every, opts.batches)?;
+    let n = check_common(&opts.step, opts.duration, opts.transient, opts.renormalise_every, opts.batches)?;
     if !(opts.separation.is_finite() && opts.separation > 0.0 && opts.separation <= 1e-3) {
         return Err(AnalysisError::invalid("separation", opts.separation, "finite, > 0 and ≤ 1e-3"));
     }
-    let n = count(opts.h, opts.duration, opts.transient, opts.renormalise_every, opts.batches)?;
     super::check_start(t0, y0)?;
     let dof = S::State::DOF;
     let d0 = opts.separation;
-    let h = opts.duration / n as f64;
     let dir = random_frame(dof, 1, opts.seed);
     let along = |y: &S::State, d: &[f64]| y.compose(&S::State::exp(&S::State::algebra_from_coords(d)));
     let scaled: Vec<f64> = dir.iter().map(|x| x * d0).collect();
-    let mut y = *y0;
     let mut z = along(y0, &scaled);
-    let mut t = t0;
     let t_avg = t0 + opts.transient;
-    let mut acc = (opts.transient == 0.0).then(|| Accumulator::new(1, t0));
-    let (stride, mut renorms) = (history_stride(n, opts.renormalise_every), 0usize);
-    let step = |t: f64, y: &S::State, h: f64| method.step(system, t, y, h, StepRequest::plain()).map(|o| o.y).map_err(|f| AnalysisError::Solve(fault_error(f, t, h)));
-    for i in 0..n {
-        if cancelled(cancel) {
-            return Err(AnalysisError::Cancelled { t });
-        }
-        let t1 = t0 + h * (i + 1) as f64;
-        y = step(t, &y, t1 - t)?;
-        z = step(t, &z, t1 - t)?;
-        t = t1;
-        if (i + 1) % opts.renormalise_every == 0 || i + 1 == n {
+    let stride = n.map(|n| history_stride(n, opts.renormalise_every));
+    let mut acc = (opts.transient == 0.0).then(|| Accumulator::new(1, t0, stride));
+    let walked = walk(system, method, t0, y0, &opts.step, opts.duration, cancel, |s| {
+        // The companion takes the trajectory's step.
+        z = method.step(system, s.t0, &z, s.h, StepRequest::plain()).map(|o| o.y).map_err(|f| AnalysisError::Solve(fault_error(f, s.t0, s.h)))?;
+        if s.index % opts.renormalise_every == 0 || s.last {
+            let y = s.y1;
             let sep = S::State::algebra_coords(&y.inverse().compose(&z).log()?);
             let d = sep.iter().map(|x| x * x).sum::<f64>().sqrt();
             if !(d.is_finite() && d > 0.0) {
-                return Err(AnalysisError::Degenerate { column: 0, t, norm: d });
+                return Err(AnalysisError::Degenerate { column: 0, t: s.t1, norm: d });
             }
             let back: Vec<f64> = sep.iter().map(|x| x * (d0 / d)).collect();
-            z = along(&y, &back);
+            z = along(y, &back);
             match &mut acc {
-                Some(a) => {
-                    renorms += 1;
-                    a.add(t, std::iter::once((d / d0).ln()), renorms % stride == 0 || i + 1 == n)
-                }
-                None if t >= t_avg - 0.5 * h => acc = Some(Accumulator::new(1, t)),
+                Some(a) => a.add(s.t1, std::iter::once((d / d0).ln()), s.last),
+                None if s.t1 >= t_avg - 0.5 * s.h => acc = Some(Accumulator::new(1, s.t1, stride)),
                 None => {}
             }
         }
-    }
+        Ok(Next::Go)
+    })?;
     let acc = acc.ok_or_else(|| AnalysisError::invalid("transient", opts.transient, "shorter than the run"))?;
+    check_batches(acc.recorded(), opts.duration, opts.batches, opts.renormalise_every)?;
     let (e, se, sp, times, running) = acc.finish(opts.batches);
-    Ok(TwoTrajectoryEstimate { exponent: e[0], stderr: se[0], spread: sp[0], times, running: running.into_iter().map(|r| r[0]).collect(), steps: n })
+    Ok(TwoTrajectoryEstimate { exponent: e[0], stderr: se[0], spread: sp[0], times, running: running.into_iter().map(|r| r[0]).collect(), steps: walked.steps })
 }

@@ -13,6 +13,10 @@
 //! ⟨Y⟩(t_N) = (1/t_N) Σ_{k=1}^{N} h Y(t_k)
 //! ```
 //!
+//! With error-controlled steps `t_k` is the time since `t₀` at the end of the
+//! `k`-th accepted step and `h` in the second sum is that step's size
+//! `t_k − t_{k−1}` (the same sums as quadratures of the continuous form).
+//!
 //! For a quasi-periodic orbit `|δ|` grows linearly and `⟨Y⟩ → 2`; for a
 //! stable, isochronous periodic orbit `|δ|` stays bounded and `⟨Y⟩ → 0`;
 //! for a chaotic orbit `log |δ| ≈ λ₁ t`, `Y ≈ λ₁ t` and `⟨Y⟩ ≈ λ₁ t/2`
@@ -20,20 +24,23 @@
 //! slope of `⟨Y⟩` over the second half of the run, therefore estimates
 //! `λ₁/2` on a chaotic orbit and tends to 0 on a regular one.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 
-use super::tangent::{step_with_tangents, Linearisation};
+use super::tangent::{tangent_images, Linearisation};
+use super::walk::{plan, walk, History, Next};
 use super::AnalysisError;
 use crate::dynamics::System;
 use crate::lie::LieGroup;
 use crate::method::{GroupNumerics, Method};
+use crate::solve::StepSize;
 
 /// Settings of [`megno`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct MegnoOptions {
-    /// Fixed step `h > 0`.
-    pub h: f64,
-    /// Integration time `T > 0`; `round(T/h)` steps of equal size (at most 1e9).
+    /// Fixed or error-controlled steps, as
+    /// [`LyapunovOptions::step`](super::LyapunovOptions::step).
+    pub step: StepSize,
+    /// Integration time `T > 0` (at most 1e9 steps).
     pub duration: f64,
     /// Seed of the random initial tangent vector (the same vector as the
     /// first column of [`lyapunov_spectrum`](super::lyapunov_spectrum) with this seed).
@@ -45,7 +52,12 @@ pub struct MegnoOptions {
 impl MegnoOptions {
     /// Seed 1 and the default linearisation.
     pub fn new(h: f64, duration: f64) -> Self {
-        MegnoOptions { h, duration, seed: 1, linearisation: Linearisation::default() }
+        Self::with_step(StepSize::Fixed(h), duration)
+    }
+
+    /// [`new`](Self::new) with fixed or error-controlled steps.
+    pub fn with_step(step: StepSize, duration: f64) -> Self {
+        MegnoOptions { step, duration, seed: 1, linearisation: Linearisation::default() }
     }
 }
 
@@ -59,7 +71,8 @@ pub struct MegnoEstimate {
     /// chaotic one.
     pub mean: f64,
     /// Least-squares slope of `⟨Y⟩(t)` over the second half of the run
-    /// (every step): `≈ λ₁/2` on a chaotic orbit, → 0 on a regular one.
+    /// (every step; with error-controlled steps, those ending in the second
+    /// half of the time span): `≈ λ₁/2` on a chaotic orbit, → 0 on a regular one.
     pub slope: f64,
     /// The finite-time maximal exponent of the same vector,
     /// `log(|δ(T)|/|δ(0)|)/T`.
@@ -86,66 +99,59 @@ where
     S::State: GroupNumerics,
     M: Method<S>,
 {
-    super::check_span(opts.h, opts.duration)?;
+    let n = plan(&opts.step, opts.duration)?;
     opts.linearisation.validate()?;
     super::check_start(t0, y0)?;
-    let n = super::step_count(opts.h, opts.duration)?;
-    let h = opts.duration / n as f64;
     let mut col = super::lyapunov::random_frame(S::State::DOF, 1, opts.seed);
-    let stride = super::lyapunov::history_stride(n, 1);
-    let (mut y, mut t) = (*y0, t0);
-    // Σ t_k log|δ_k/δ_{k−1}|, Σ h Y(t_k), log|δ_k/δ_0|.
+    let mut history = n.map_or_else(History::growing, |n| History::every(super::lyapunov::history_stride(n, 1)));
+    // Σ t_k log|δ_k/δ_{k−1}|, Σ h Y(t_k), log|δ_k/δ_0| (t_k from t₀).
     let (mut weighted, mut integral, mut log_growth) = (0.0, 0.0, 0.0);
-    let (mut megno, mut mean) = (f64::NAN, f64::NAN);
-    let (mut times, mut running_megno, mut running_mean) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut megno, mut mean, mut s_prev) = (f64::NAN, f64::NAN, 0.0);
     // Sums of the least-squares fit of ⟨Y⟩ against t over the second half.
-    let half = n / 2;
+    let in_second_half = |index: usize, s: f64| match n {
+        Some(n) => index > n / 2,
+        None => s >= 0.5 * opts.duration,
+    };
     let (mut fit_n, mut st, mut stt, mut sy, mut sty) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for i in 0..n {
-        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-            return Err(AnalysisError::Cancelled { t });
-        }
-        let k = (i + 1) as f64;
-        let t1 = t0 + h * k;
-        y = step_with_tangents(system, method, t, &y, t1 - t, &mut col, &opts.linearisation)?;
-        t = t1;
+    let walked = walk(system, method, t0, y0, &opts.step, opts.duration, cancel, |step| {
+        tangent_images(system, method, step.t0, step.y0, step.y1, step.h, &mut col, &opts.linearisation)?;
         let norm = col.column(0).norm();
         if !(norm.is_finite() && norm > 0.0) {
-            return Err(AnalysisError::Degenerate { column: 0, t, norm });
+            return Err(AnalysisError::Degenerate { column: 0, t: step.t1, norm });
         }
         col.unscale_mut(norm);
         let growth = norm.ln();
         log_growth += growth;
-        // Time since the start, in units of h: k (the map's step count).
-        weighted += k * growth;
-        megno = 2.0 * weighted / k;
-        integral += megno;
-        mean = integral / k;
-        if i >= half {
-            let s = k * h;
+        // Time since the start.
+        let s = step.t1 - t0;
+        weighted += s * growth;
+        megno = 2.0 * weighted / s;
+        integral += (s - s_prev) * megno;
+        s_prev = s;
+        mean = integral / s;
+        if in_second_half(step.index, s) {
             fit_n += 1.0;
             st += s;
             stt += s * s;
             sy += mean;
             sty += s * mean;
         }
-        if (i + 1) % stride == 0 || i + 1 == n {
-            times.push(t);
-            running_megno.push(megno);
-            running_mean.push(mean);
-        }
-    }
+        history.offer(step.t1, || (megno, mean), step.last);
+        Ok(Next::Go)
+    })?;
     let den = fit_n * stt - st * st;
     let slope = if fit_n >= 2.0 && den > 0.0 { (fit_n * sty - st * sy) / den } else { f64::NAN };
+    let (times, running): (Vec<f64>, Vec<(f64, f64)>) = history.into_rows().into_iter().unzip();
+    let (running_megno, running_mean) = running.into_iter().unzip();
     Ok(MegnoEstimate {
         megno,
         mean,
         slope,
-        lyapunov: log_growth / (n as f64 * h),
+        lyapunov: log_growth / (walked.t - t0),
         times,
         running_megno,
         running_mean,
-        steps: n,
+        steps: walked.steps,
         steps_per_step: 1 + opts.linearisation.steps_per_column(),
     })
 }

@@ -13,21 +13,24 @@
 //! SALI has no floor set by the error of the finite-difference tangent map
 //! (see `Pair`).
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 
 use nalgebra::DMatrix;
 
-use super::tangent::{step_with_tangents, Linearisation};
+use super::tangent::{tangent_images, Linearisation};
+use super::walk::{plan, walk, Next};
 use super::AnalysisError;
 use crate::dynamics::System;
 use crate::lie::LieGroup;
 use crate::method::{GroupNumerics, Method};
+use crate::solve::StepSize;
 
 /// Settings of [`sali`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct SaliOptions {
-    /// Fixed step `h > 0`.
-    pub h: f64,
+    /// Fixed or error-controlled steps, as
+    /// [`LyapunovOptions::step`](super::LyapunovOptions::step).
+    pub step: StepSize,
     /// Integration time `T > 0` (the run stops earlier once SALI is below
     /// `threshold`).
     pub duration: f64,
@@ -42,7 +45,12 @@ pub struct SaliOptions {
 impl SaliOptions {
     /// Threshold 1e-8, seed 1, the default linearisation.
     pub fn new(h: f64, duration: f64) -> Self {
-        SaliOptions { h, duration, threshold: 1e-8, seed: 1, linearisation: Linearisation::default() }
+        Self::with_step(StepSize::Fixed(h), duration)
+    }
+
+    /// [`new`](Self::new) with fixed or error-controlled steps.
+    pub fn with_step(step: StepSize, duration: f64) -> Self {
+        SaliOptions { step, duration, threshold: 1e-8, seed: 1, linearisation: Linearisation::default() }
     }
 }
 
@@ -68,7 +76,7 @@ where
     S::State: GroupNumerics,
     M: Method<S>,
 {
-    super::check_span(opts.h, opts.duration)?;
+    plan(&opts.step, opts.duration)?;
     if !(opts.threshold > 0.0 && opts.threshold < 1.0) {
         return Err(AnalysisError::invalid("threshold", opts.threshold, "between 0 and 1 (exclusive)"));
     }
@@ -78,29 +86,24 @@ where
     if dof < 2 {
         return Err(AnalysisError::invalid("state", format!("a {dof}-dimensional state group"), "at least 2 dimensions"));
     }
-    let n = super::step_count(opts.h, opts.duration)?;
-    let h = opts.duration / n as f64;
     // Column 0: u₁; column 1: the direction of d = u₁ − u₂, |d| = `index`
     // (see `Pair`). Two random orthonormal vectors: |d| = √2.
     let mut cols = super::lyapunov::random_frame(dof, 2, opts.seed);
     let mut pair = Pair::new(&mut cols);
-    let (mut y, mut t) = (*y0, t0);
     let mut index = pair.index;
     let mut min = f64::INFINITY;
-    for i in 0..n {
-        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-            return Err(AnalysisError::Cancelled { t });
-        }
-        let t1 = t0 + h * (i + 1) as f64;
-        y = step_with_tangents(system, method, t, &y, t1 - t, &mut cols, &opts.linearisation)?;
-        t = t1;
-        index = pair.advance(&mut cols, t)?;
+    let mut chaotic_at = None;
+    let walked = walk(system, method, t0, y0, &opts.step, opts.duration, cancel, |s| {
+        tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut cols, &opts.linearisation)?;
+        index = pair.advance(&mut cols, s.t1)?;
         min = min.min(index);
         if index < opts.threshold {
-            return Ok(SaliEstimate { sali: index, chaotic_at: Some(t), min, steps: i + 1 });
+            chaotic_at = Some(s.t1);
+            return Ok(Next::Stop);
         }
-    }
-    Ok(SaliEstimate { sali: index, chaotic_at: None, min, steps: n })
+        Ok(Next::Go)
+    })?;
+    Ok(SaliEstimate { sali: index, chaotic_at, min, steps: walked.steps })
 }
 
 /// The two deviation vectors as `u₁` and their difference `d = u₁ − u₂`

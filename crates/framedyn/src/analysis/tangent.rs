@@ -7,7 +7,7 @@ use super::AnalysisError;
 use crate::dynamics::System;
 use crate::lie::LieGroup;
 use crate::method::{GroupNumerics, Method, StepRequest};
-use crate::solve::fault_error;
+use crate::solve::{fault_error, StepSize};
 
 /// The difference formula of the directional derivative of the one-step map.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -100,8 +100,26 @@ where
     S::State: GroupNumerics,
     M: Method<S>,
 {
+    let y1 = method.step(system, t, y0, h, StepRequest::plain()).map(|o| o.y).map_err(|f| AnalysisError::Solve(fault_error(f, t, h)))?;
+    tangent_images(system, method, t, y0, &y1, h, cols, lin)?;
+    Ok(y1)
+}
+
+/// The images of the tangent columns `cols` under the tangent map of the
+/// step of `method` from `(t, y0)` with size `h` that ended at `y1`, written
+/// back into `cols`. The step size is held fixed: with error-controlled
+/// steps this is the derivative of the accepted step at its size, a step of
+/// the discrete variational equation (the controller's choice of `h`
+/// depends on the state too, but a perturbed state at another `h` would be
+/// compared at another time).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn tangent_images<S, M>(system: &S, method: &M, t: f64, y0: &S::State, y1: &S::State, h: f64, cols: &mut DMatrix<f64>, lin: &Linearisation) -> Result<(), AnalysisError>
+where
+    S: System,
+    S::State: GroupNumerics,
+    M: Method<S>,
+{
     let step = |y: &S::State| method.step(system, t, y, h, StepRequest::plain()).map(|o| o.y).map_err(|f| AnalysisError::Solve(fault_error(f, t, h)));
-    let y1 = step(y0)?;
     let y1_inv = y1.inverse();
     let mut xi = vec![0.0; S::State::DOF];
     for j in 0..cols.ncols() {
@@ -127,7 +145,7 @@ where
         };
         cols.set_column(j, &d);
     }
-    Ok(y1)
+    Ok(())
 }
 
 /// A trajectory with tangent vectors carried along: fixed steps of a method
@@ -210,4 +228,30 @@ where
         flow.step(hi)?;
     }
     Ok((flow.cols, flow.y))
+}
+
+/// The derivative of the flow of `method` over `duration` from `(t0, y0)`
+/// with fixed or error-controlled steps (`step`; the steps of a run of the
+/// same settings, chosen for the trajectory alone), in the left
+/// trivialisation at both ends, as [`flow_derivative`]: the product of the
+/// tangent maps of the accepted steps. Also returns the final state and the
+/// number of steps.
+pub fn tangent_flow<S, M>(system: &S, method: &M, t0: f64, y0: &S::State, step: &StepSize, duration: f64, lin: &Linearisation) -> Result<(DMatrix<f64>, S::State, usize), AnalysisError>
+where
+    S: System,
+    S::State: GroupNumerics,
+    M: Method<S>,
+{
+    lin.validate()?;
+    super::check_start(t0, y0)?;
+    super::walk::plan(step, duration)?;
+    let dof = S::State::DOF;
+    let mut cols = DMatrix::identity(dof, dof);
+    let mut y = *y0;
+    let walked = super::walk::walk(system, method, t0, y0, step, duration, None, |s| {
+        tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut cols, lin)?;
+        y = *s.y1;
+        Ok(super::walk::Next::Go)
+    })?;
+    Ok((cols, y, walked.steps))
 }

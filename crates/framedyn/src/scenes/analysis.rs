@@ -1,5 +1,6 @@
 //! The analyses of [`crate::analysis`] on a scene: its model, initial state,
-//! method and fixed step, type-erased like the simulation's engine.
+//! method and steps (fixed `h`, or error-controlled by `rtol`/`atol`),
+//! type-erased like the simulation's engine.
 
 use std::sync::atomic::AtomicBool;
 
@@ -79,12 +80,12 @@ pub enum SceneAnalysisError {
     Analysis(#[from] AnalysisError),
 }
 
-/// The scene's model, method, `t₀` and fixed step.
+/// The scene's model, method, `t₀`, steps and span.
 struct Prepared {
     model: Box<dyn DynAnalysis>,
     method: AnyMethod,
     t0: f64,
-    h: f64,
+    step: StepSize,
     duration: f64,
 }
 
@@ -105,13 +106,7 @@ impl Scene {
         if !model.supports(plan.entry.needs) {
             return Err(self.locate(SceneError::invalid("method.name", format!("\"{}\"", plan.entry.name), format!("a method this model can take (it needs {})", plan.entry.needs.describe()))));
         }
-        let h = match plan.settings.step {
-            StepSize::Fixed(h) => h,
-            StepSize::Adaptive(_) => {
-                return Err(self.locate(SceneError::invalid("method.h", "(adaptive: rtol/atol)", "a fixed step h: the tangent map is that of one step of given size")));
-            }
-        };
-        Ok(Prepared { model, method, t0: plan.t0, h, duration: plan.t_end - plan.t0 })
+        Ok(Prepared { model, method, t0: plan.t0, step: plan.settings.step.clone(), duration: plan.t_end - plan.t0 })
     }
 
     /// The dimension of the scene's state group: the number of Lyapunov
@@ -120,32 +115,34 @@ impl Scene {
         Ok(self.prepare_analysis()?.model.dof())
     }
 
-    /// [`LyapunovOptions`] with the scene's fixed step and time span (the
-    /// other settings at their defaults: the largest exponent only).
+    /// [`LyapunovOptions`] with the scene's steps (fixed or error-controlled)
+    /// and time span (the other settings at their defaults: the largest
+    /// exponent only).
     pub fn lyapunov_options(&self) -> Result<LyapunovOptions, SceneError> {
         let p = self.prepare_analysis()?;
-        Ok(LyapunovOptions::new(p.h, p.duration))
+        Ok(LyapunovOptions::with_step(p.step, p.duration))
     }
 
-    /// [`TwoTrajectoryOptions`] with the scene's fixed step and time span.
+    /// [`TwoTrajectoryOptions`] with the scene's steps and time span.
     pub fn two_trajectory_options(&self) -> Result<TwoTrajectoryOptions, SceneError> {
         let p = self.prepare_analysis()?;
-        Ok(TwoTrajectoryOptions::new(p.h, p.duration))
+        Ok(TwoTrajectoryOptions::with_step(p.step, p.duration))
     }
 
     /// The Lyapunov exponents of the scene's trajectory
-    /// ([`lyapunov_spectrum`]) with its method from its `t₀`; `opts.h` and
-    /// `opts.duration` as given (see [`Scene::lyapunov_options`]). Needs a
-    /// Lie-group method with a fixed step `method.h`.
+    /// ([`lyapunov_spectrum`]) with its method from its `t₀`; `opts.step`
+    /// and `opts.duration` as given (see [`Scene::lyapunov_options`]). Needs
+    /// a Lie-group method (fixed `method.h`, or `rtol`/`atol` with an
+    /// embedded pair).
     pub fn lyapunov(&self, opts: &LyapunovOptions, cancel: &AtomicBool) -> Result<LyapunovEstimate, SceneAnalysisError> {
         let p = self.prepare_analysis()?;
         Ok(p.model.lyapunov(&p.method, p.t0, opts, cancel)?)
     }
 
-    /// [`SaliOptions`] with the scene's fixed step and time span.
+    /// [`SaliOptions`] with the scene's steps and time span.
     pub fn sali_options(&self) -> Result<SaliOptions, SceneError> {
         let p = self.prepare_analysis()?;
-        Ok(SaliOptions::new(p.h, p.duration))
+        Ok(SaliOptions::with_step(p.step, p.duration))
     }
 
     /// The Smaller Alignment Index of the scene's trajectory ([`sali()`]): a
@@ -155,10 +152,10 @@ impl Scene {
         Ok(p.model.sali(&p.method, p.t0, opts, cancel)?)
     }
 
-    /// [`MegnoOptions`] with the scene's fixed step and time span.
+    /// [`MegnoOptions`] with the scene's steps and time span.
     pub fn megno_options(&self) -> Result<MegnoOptions, SceneError> {
         let p = self.prepare_analysis()?;
-        Ok(MegnoOptions::new(p.h, p.duration))
+        Ok(MegnoOptions::with_step(p.step, p.duration))
     }
 
     /// MEGNO of the scene's trajectory ([`megno()`]): a fast chaos

@@ -75,7 +75,8 @@ pub trait Sink<G: LieGroup> {
     type Error;
     /// A saved state.
     fn save(&mut self, t: f64, y: &G) -> Result<(), Self::Error>;
-    /// An accepted step (its dense output when [`Settings::dense`] is set).
+    /// An accepted step, after its saved states and events (its dense
+    /// output when [`Settings::dense`] is set).
     fn step(&mut self, segment: &StepSegment<'_, G>) -> Result<(), Self::Error> {
         let _ = segment;
         Ok(())
@@ -94,6 +95,10 @@ pub struct StepSegment<'a, G: LieGroup> {
     pub t0: f64,
     /// End of the step (before any terminal event inside it).
     pub t1: f64,
+    /// The step size the method took: `t1 − t0` up to round-off, exactly
+    /// the `h` of [`Method::step`] (so that the step can be repeated, e.g.
+    /// from perturbed states).
+    pub h: f64,
     /// The state at `t0`.
     pub y0: &'a G,
     /// The state at `t1`.
@@ -771,9 +776,7 @@ where
                 self.save_state(t1, out.y)?;
             }
         }
-        if self.set.dense {
-            self.sink.step(&StepSegment { t0: t, t1, y0: &y0, y1: &out.y, dense: seg.as_ref() }).map_err(DriveError::Sink)?;
-        }
+        self.sink.step(&StepSegment { t0: t, t1, h, y0: &y0, y1: &out.y, dense: seg.as_ref() }).map_err(DriveError::Sink)?;
         self.t = t_stop;
         self.y = y_stop;
         Ok(stop.map(|s| s.1))
