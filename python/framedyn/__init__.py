@@ -37,7 +37,7 @@ import numpy as np
 from . import _framedyn
 from ._errors import MAX_SAMPLES, MAX_THREADS, USIZE_MAX, FramedynError, IntegrationError, InternalError, InvalidInputError, OutputError, QualityWarning, check_int
 from ._scene import INITIAL_FIELDS, Scene, as_scenes
-from ._analysis import ChaosMap, LyapunovResult, MegnoResult, Section, chaos_map, lyapunov, megno, sali, section
+from ._analysis import ChaosMap, GaliResult, LyapunovResult, MegnoResult, Section, chaos_map, gali, lyapunov, megno, sali, section
 from ._ensemble import EnsembleSolution, table_columns
 from ._solution import BatchSolution, EventRecords, Solution
 
@@ -55,10 +55,12 @@ __all__ = [
     "solve_batch",
     "lyapunov",
     "sali",
+    "gali",
     "megno",
     "chaos_map",
     "section",
     "ChaosMap",
+    "GaliResult",
     "LyapunovResult",
     "MegnoResult",
     "Section",

@@ -26,6 +26,7 @@ __all__ = [
     "run_batch",
     "run_table",
     "sali",
+    "gali",
     "section",
     "write_records",
 ]
@@ -142,6 +143,10 @@ def section(scene: Scene, spec_json: str) -> Dict[str, Any]:
 
 def sali(scene: Scene, threshold: float, seed: int, eps: Optional[float] = None, fourth_order: bool = False) -> Tuple[float, Optional[float], float, int]:
     """Smaller Alignment Index: ``(sali, chaotic_at, min, steps)``."""
+
+def gali(scene: Scene, k: Optional[int], threshold: float, seed: int, eps: Optional[float], fourth_order: bool) -> Dict[str, Any]:
+    """GALI_k: ``{"k", "gali", "log10", "below_at", "times", "running_log10", "steps", "steps_per_step"}``."""
+    ...
 
 def megno(scene: Scene, seed: int, eps: Optional[float], fourth_order: bool) -> Dict[str, Any]:
     """MEGNO: ``{"megno", "mean", "slope", "lyapunov", "times", "running_megno", "running_mean", "steps", "steps_per_step"}``."""

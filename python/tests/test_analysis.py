@@ -232,3 +232,37 @@ def test_chaos_map_bad_input_is_typed():
         fd.chaos_map(base, {"initial.r": [0.5, 0.6], "initial.phi_dot": [1.0]})
     with pytest.raises(TypeError, match="megno"):
         fd.chaos_map(base, table, megno=1)
+
+
+def test_gali_chaotic_regular_and_bad_input():
+    tilted = fd.Scene.from_toml(TILTED_GYROSCOPE)
+    # GALI_2 and SALI of the same two vectors: GALI_2 = S sqrt(1 - S^2/4).
+    g2 = fd.gali(tilted, k=2, threshold=1e-300)
+    s = fd.sali(tilted, threshold=1e-300)
+    assert isinstance(g2, fd.GaliResult) and g2.k == 2 and g2.steps == s["steps"]
+    expected = s["sali"] * np.sqrt(1.0 - s["sali"] ** 2 / 4.0)
+    assert abs(g2.gali / expected - 1.0) < 1e-6, (g2.gali, expected)
+    assert g2.steps_per_step == 5 and g2.times[-1] == 300.0 and g2.running_log10[-1] == g2.log10
+    # Chaotic: GALI_3 falls below 1e-12 exponentially; the run stops there.
+    g3 = fd.gali(tilted, k=3)
+    assert g3.below_at is not None and g3.log10 < -12.0 and g3.times[-1] == g3.below_at
+    full = fd.gali(tilted, k="all", threshold=1e-300)
+    assert full.k == 7 and full.steps_per_step == 15
+    # Regular (Kepler): GALI_2 stays of order 1.
+    d = fd.Scene.example("s2-point-kepler").to_dict()
+    d["time"]["t_end"] = 200.0
+    regular = fd.gali(fd.Scene.from_dict(d))
+    assert regular.below_at is None and regular.gali > 1e-2, regular.gali
+    kepler = fd.Scene.example("s2-point-kepler")
+    with pytest.raises(fd.InvalidInputError, match="k"):
+        fd.gali(kepler, k=1)
+    with pytest.raises(fd.InvalidInputError, match="between 2 and 5"):
+        fd.gali(kepler, k=6)
+    with pytest.raises(fd.InvalidInputError, match="'all'"):
+        fd.gali(kepler, k="some")
+    with pytest.raises(fd.InvalidInputError, match="threshold"):
+        fd.gali(kepler, threshold=0.0)
+    with pytest.raises(fd.InvalidInputError, match="a float"):
+        fd.gali(kepler, k=2.5)
+    with pytest.raises(TypeError):
+        fd.gali(kepler, threshold="small")

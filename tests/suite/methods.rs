@@ -6,6 +6,7 @@
 
 mod adaptive;
 mod ensemble;
+mod gali;
 mod integrators;
 mod lyapunov;
 mod megno;

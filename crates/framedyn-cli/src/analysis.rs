@@ -127,6 +127,7 @@ fn error(origin: &str, e: SceneAnalysisError) -> (u8, String) {
 fn option_name(field: &str) -> String {
     match field {
         "renormalise_every" => "--every".into(),
+        "k" => "-k".into(),
         "h" => "method.h (the scene's step)".into(),
         "duration" => "time.t_end − time.t0 (the scene's span)".into(),
         f => format!("--{}", f.replace('_', "-")),
@@ -294,6 +295,57 @@ pub fn megno(scene: &Scene, origin: &str, args: &MegnoArgs) -> Result<(), (u8, S
     println!("mean:            {:.6} (<Y>: 2 quasi-periodic, 0 stable periodic, ~lambda_1 t/2 chaotic)", e.mean);
     println!("2 x slope:       {:.6} (of <Y> over the second half: lambda_1 if chaotic, ~0 if regular)", 2.0 * e.slope);
     println!("lyapunov:        {:.6} (finite-time exponent of the same vector)", e.lyapunov);
+    if let Some(path) = &args.output {
+        println!("running values:  {}", path.display());
+    }
+    Ok(())
+}
+
+/// The settings of `framedyn gali` besides the scene.
+#[derive(Debug, Clone)]
+pub struct GaliArgs {
+    /// Number of tangent vectors (`None`: the state dimension).
+    pub k: Option<usize>,
+    /// GALI below which the orbit is called chaotic.
+    pub threshold: f64,
+    /// Seed and linearisation of the tangent vectors.
+    pub tangent: TangentArgs,
+    /// Where to write the running values.
+    pub output: Option<std::path::PathBuf>,
+}
+
+/// `framedyn gali`.
+pub fn gali(scene: &Scene, origin: &str, args: &GaliArgs) -> Result<(), (u8, String)> {
+    let cancel = signals::arm();
+    let k = match args.k {
+        Some(k) => k,
+        None => scene.state_dimension().map_err(|e| error(origin, e.into()))?,
+    };
+    let mut opts = scene.gali_options(k).map_err(|e| error(origin, e.into()))?;
+    opts.threshold = args.threshold;
+    opts.seed = args.tangent.seed;
+    opts.linearisation = args.tangent.linearisation();
+    let started = std::time::Instant::now();
+    let e = scene.gali(&opts, cancel).map_err(|e| error(origin, e))?;
+    let wall = started.elapsed().as_secs_f64();
+    if let Some(path) = &args.output {
+        let mut text = String::from("t,log10_gali\n");
+        for (t, l) in e.times.iter().zip(&e.running_log10) {
+            text.push_str(&format!("{t:?},{l:?}\n"));
+        }
+        write_atomically(path, &text)?;
+    }
+    println!("scene:           {origin}");
+    println!("steps:           {} {} ({} method steps each)", e.steps, describe(&opts.step), e.steps_per_step);
+    println!("wall time:       {wall:.3} s");
+    println!("gali_{k}:          {:.6e} (log10 {:.6})", e.gali, e.log10);
+    // Below the threshold means chaos only when the fall is exponential: on
+    // a regular orbit GALI_k falls like a power of t for k above the
+    // torus's dimension.
+    match e.below_at {
+        Some(t) => println!("below:           {:e} at t = {t:?} (exponential fall: chaotic; a power of t: regular, k above the torus's dimension)", opts.threshold),
+        None => println!("below:           not {:e} over T = {:?}", opts.threshold, opts.duration),
+    }
     if let Some(path) = &args.output {
         println!("running values:  {}", path.display());
     }

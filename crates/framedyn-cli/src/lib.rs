@@ -192,6 +192,22 @@ enum Command {
         #[arg(short, long, requires = "table")]
         output: Option<PathBuf>,
     },
+    /// GALI_k, the Generalised Alignment Index of k tangent vectors, of a scene's trajectory (its method and steps, fixed or error-controlled).
+    Gali {
+        /// Scene file (.toml or .json) or embedded scene name.
+        scene: String,
+        /// Number of tangent vectors, 2 … the state dimension, or `all`.
+        #[arg(short = 'k', default_value = "2")]
+        k: String,
+        /// The GALI below which the orbit is called chaotic (the run stops there), 1e-300 ≤ threshold < 1.
+        #[arg(long, default_value_t = 1e-12)]
+        threshold: f64,
+        #[command(flatten)]
+        tangent: analysis::TangentArgs,
+        /// Write the running values (t, log10_gali) to this CSV.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
     /// MEGNO of a scene's trajectory: a fast chaos indicator from one tangent vector (its method and steps, fixed or error-controlled).
     Megno {
         /// Scene file (.toml or .json) or embedded scene name.
@@ -382,6 +398,14 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
         Command::Sali { scene, threshold, tangent, map, output } => {
             let (s, origin) = load(&scene)?;
             analysis::sali(&s, &origin, &analysis::SaliArgs { threshold, tangent, map, output })
+        }
+        Command::Gali { scene, k, threshold, tangent, output } => {
+            let (s, origin) = load(&scene)?;
+            let k = match k.as_str() {
+                "all" => None,
+                k => Some(k.parse::<usize>().map_err(|_| (2, format!("invalid -k = {k:?}: must be an integer ≥ 2 or `all`")))?),
+            };
+            analysis::gali(&s, &origin, &analysis::GaliArgs { k, threshold, tangent, output })
         }
         Command::Megno { scene, tangent, map, output } => {
             let (s, origin) = load(&scene)?;

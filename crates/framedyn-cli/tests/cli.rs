@@ -886,6 +886,37 @@ fn megno_prints_the_library_values_and_writes_the_running_values() {
     }
 }
 
+/// `gali` prints the library's values and writes the running values; bad
+/// options exit 2 naming them.
+#[test]
+fn gali_prints_the_library_values_and_refuses_bad_options() {
+    let dir = tmpdir("gali");
+    let path = dir.join("tilted.toml");
+    fs::write(&path, TILTED_GYROSCOPE).unwrap();
+    let o = framedyn(&["gali", path.to_str().unwrap(), "-k", "3", "-o", "gali.csv"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let scene = Scene::from_toml_str(TILTED_GYROSCOPE).unwrap();
+    let e = scene.gali(&scene.gali_options(3).unwrap(), &AtomicBool::new(false)).unwrap();
+    let out = stdout(&o);
+    assert!(e.below_at.is_some(), "{e:?}");
+    assert!(out.contains(&format!("gali_3:          {:.6e} (log10 {:.6})", e.gali, e.log10)), "{out}");
+    assert!(out.contains(&format!("at t = {:?}", e.below_at.unwrap())), "{out}");
+    let (header, rows) = read_csv(&dir.join("gali.csv"));
+    assert_eq!(header, ["t", "log10_gali"]);
+    assert_eq!(rows.len(), e.times.len());
+    assert_eq!(rows.last().unwrap(), &vec![e.below_at.unwrap(), e.log10]);
+    for (args, needle) in [
+        (&["gali", "s2-point-kepler", "-k", "1"][..], "invalid -k = 1: must be between 2 and 5"),
+        (&["gali", "s2-point-kepler", "-k", "x"][..], "invalid -k = \"x\""),
+        (&["gali", "s2-point-kepler", "--threshold", "0"][..], "invalid --threshold = 0"),
+        (&["gali", "s2-point-kepler", "--eps", "1"][..], "invalid --eps = 1"),
+    ] {
+        let o = framedyn(args, &dir);
+        assert_eq!(code(&o), 2, "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+    }
+}
+
 /// `section` writes the crossings as CSV (`rising` then every record column)
 /// at the crossed value.
 #[test]

@@ -164,6 +164,35 @@ pub fn megno<'py>(py: Python<'py>, scene: &PyScene, seed: u64, eps: Option<f64>,
     Ok(d)
 }
 
+/// GALI_k of a scene (see `framedyn.gali`): a dict of its values and
+/// running arrays (`k = None`: the state group's dimension).
+#[pyfunction]
+#[pyo3(signature = (scene, k, threshold, seed, eps, fourth_order))]
+pub fn gali<'py>(py: Python<'py>, scene: &PyScene, k: Option<usize>, threshold: f64, seed: u64, eps: Option<f64>, fourth_order: bool) -> PyResult<Bound<'py, PyDict>> {
+    let scene = scene.inner.clone();
+    let (k, e) = run_interruptibly(py, move |cancel| {
+        let k = match k {
+            Some(k) => k,
+            None => scene.state_dimension()?,
+        };
+        let mut opts = scene.gali_options(k)?;
+        opts.threshold = threshold;
+        opts.seed = seed;
+        opts.linearisation = Linearisation::chosen(fourth_order, eps);
+        Ok((k, scene.gali(&opts, cancel)?))
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("k", k)?;
+    d.set_item("gali", e.gali)?;
+    d.set_item("log10", e.log10)?;
+    d.set_item("below_at", e.below_at)?;
+    d.set_item("times", PyArray1::from_vec(py, e.times))?;
+    d.set_item("running_log10", PyArray1::from_vec(py, e.running_log10))?;
+    d.set_item("steps", e.steps)?;
+    d.set_item("steps_per_step", e.steps_per_step)?;
+    Ok(d)
+}
+
 /// SALI and/or MEGNO of every member of the ensemble table `names[k]` →
 /// `columns[k]` on `scene` (see `framedyn.chaos_map`), in parallel with
 /// the GIL released: a dict of `(N,)` arrays, one per quantity, with the

@@ -35,6 +35,7 @@ fn _framedyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analysis::lyapunov, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::section, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::sali, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::gali, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::megno, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::chaos_map, m)?)?;
     m.add_function(wrap_pyfunction!(catalog::methods, m)?)?;

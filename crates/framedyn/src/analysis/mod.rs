@@ -58,7 +58,9 @@
 //! from the separation of two nearby trajectories, renormalised to `d₀`
 //! (Benettin, Galgani, Strelcyn 1976) — independent of the tangent code.
 //! [`sali()`]: the Smaller Alignment Index (Skokos 2001), a fast chaos
-//! indicator from two tangent vectors. [`megno()`]: the Mean Exponential
+//! indicator from two tangent vectors. [`gali()`]: the Generalised Alignment
+//! Index of `k` vectors (Skokos, Bountis & Antonopoulos 2007), whose decay
+//! on a regular orbit tells the dimension of its torus. [`megno()`]: the Mean Exponential
 //! Growth factor of Nearby Orbits (Cincotta & Simó 2000) from one.
 //! [`chaos_map`]: SALI and MEGNO of every member of an ensemble table, in
 //! parallel, as columns (maps over initial conditions).
@@ -71,6 +73,7 @@
 //! still pair, `λᵢ + λ_{DOF+1−i} = 0`, and sum to 0.
 
 mod error;
+pub mod gali;
 pub mod lyapunov;
 pub mod map;
 pub mod megno;
@@ -79,6 +82,7 @@ pub mod tangent;
 mod walk;
 
 pub use error::AnalysisError;
+pub use gali::{gali, GaliEstimate, GaliOptions};
 pub use lyapunov::{lyapunov_spectrum, two_trajectory, LyapunovEstimate, LyapunovOptions, TwoTrajectoryEstimate, TwoTrajectoryOptions};
 pub use map::{chaos_map, ChaosMap, ChaosMapOptions};
 pub use megno::{megno, MegnoEstimate, MegnoOptions};

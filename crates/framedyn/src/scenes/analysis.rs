@@ -9,7 +9,7 @@ use super::chart::ChartTwin;
 use super::error::SceneError;
 use super::observe::Observe;
 use super::scene::Scene;
-use crate::analysis::{lyapunov_spectrum, megno, sali, two_trajectory, AnalysisError, LyapunovEstimate, LyapunovOptions, MegnoEstimate, MegnoOptions, SaliEstimate, SaliOptions, TwoTrajectoryEstimate, TwoTrajectoryOptions};
+use crate::analysis::{gali, lyapunov_spectrum, megno, sali, two_trajectory, AnalysisError, GaliEstimate, GaliOptions, LyapunovEstimate, LyapunovOptions, MegnoEstimate, MegnoOptions, SaliEstimate, SaliOptions, TwoTrajectoryEstimate, TwoTrajectoryOptions};
 use crate::lie::LieGroup;
 use crate::method::registry::{AnyMethod, Built, Needs};
 use crate::solve::{SolveError, StepSize};
@@ -22,6 +22,7 @@ pub(crate) trait DynAnalysis: Send {
     fn two_trajectory(&self, method: &AnyMethod, t0: f64, opts: &TwoTrajectoryOptions, cancel: &AtomicBool) -> Result<TwoTrajectoryEstimate, AnalysisError>;
     fn sali(&self, method: &AnyMethod, t0: f64, opts: &SaliOptions, cancel: &AtomicBool) -> Result<SaliEstimate, AnalysisError>;
     fn megno(&self, method: &AnyMethod, t0: f64, opts: &MegnoOptions, cancel: &AtomicBool) -> Result<MegnoEstimate, AnalysisError>;
+    fn gali(&self, method: &AnyMethod, t0: f64, opts: &GaliOptions, cancel: &AtomicBool) -> Result<GaliEstimate, AnalysisError>;
 }
 
 struct Typed<S: Observe> {
@@ -51,6 +52,9 @@ impl<S: Observe> DynAnalysis for Typed<S> {
     }
     fn megno(&self, method: &AnyMethod, t0: f64, opts: &MegnoOptions, cancel: &AtomicBool) -> Result<MegnoEstimate, AnalysisError> {
         megno(&self.system, method, t0, &self.y0, opts, Some(cancel))
+    }
+    fn gali(&self, method: &AnyMethod, t0: f64, opts: &GaliOptions, cancel: &AtomicBool) -> Result<GaliEstimate, AnalysisError> {
+        gali(&self.system, method, t0, &self.y0, opts, Some(cancel))
     }
 }
 
@@ -164,6 +168,19 @@ impl Scene {
     pub fn megno(&self, opts: &MegnoOptions, cancel: &AtomicBool) -> Result<MegnoEstimate, SceneAnalysisError> {
         let p = self.prepare_analysis()?;
         Ok(p.model.megno(&p.method, p.t0, opts, cancel)?)
+    }
+
+    /// [`GaliOptions`] with the scene's steps and time span and `k` vectors.
+    pub fn gali_options(&self, k: usize) -> Result<GaliOptions, SceneError> {
+        let p = self.prepare_analysis()?;
+        Ok(GaliOptions::with_step(p.step, p.duration, k))
+    }
+
+    /// The Generalised Alignment Index `GALI_k` of the scene's trajectory
+    /// ([`gali()`]).
+    pub fn gali(&self, opts: &GaliOptions, cancel: &AtomicBool) -> Result<GaliEstimate, SceneAnalysisError> {
+        let p = self.prepare_analysis()?;
+        Ok(p.model.gali(&p.method, p.t0, opts, cancel)?)
     }
 
     /// The two-trajectory estimate of the maximal exponent ([`two_trajectory`]).
