@@ -478,3 +478,35 @@ fn adaptive_analysis_errors_name_the_field() {
     assert!(bad_rtol.contains("rtol"), "{bad_rtol}");
     assert!(short.contains("duration") && short.contains("batches"), "{short}");
 }
+
+/// An analysis takes at most `max_steps` steps: a scene's options take its
+/// `method.max_steps`, and an error-controlled run that needs more stops
+/// with the driver's error; fixed steps are checked before the run.
+#[test]
+fn analyses_honour_max_steps() {
+    use framedyn::analysis::{megno, MegnoOptions};
+    use framedyn::solve::SolveError;
+    let no = AtomicBool::new(false);
+    let mut s = framedyn::scenes::example("s2-gyroscope-pole").unwrap();
+    s.method.name = "dop853".into();
+    s.method.h = None;
+    s.method.rtol = Some(1e-10.into());
+    s.method.atol = Some(1e-10.into());
+    s.method.max_steps = Some(5);
+    let o = s.megno_options().unwrap();
+    assert_eq!(o.max_steps, 5);
+    match s.megno(&o, &no).unwrap_err() {
+        framedyn::scenes::SceneAnalysisError::Analysis(AnalysisError::Solve(SolveError::MaxSteps { max_steps, .. })) => assert_eq!(max_steps, 5),
+        other => panic!("not a MaxSteps error: {other}"),
+    }
+    s.method.max_steps = None;
+    assert_eq!(s.megno_options().unwrap().max_steps, framedyn::analysis::MAX_STEPS);
+    assert!(s.megno(&s.megno_options().unwrap(), &no).is_ok());
+    let (sys, y0) = tilted(0.8, 0.6, [1.2, 0.3], [0.9, 0.7], 0.4, 0.6);
+    let err = |o: MegnoOptions| megno(&sys, &Rkmk::rk4(), 0.0, &y0, &o, None).unwrap_err().to_string();
+    let few = err(MegnoOptions { max_steps: 99, ..MegnoOptions::new(0.01, 1.0) });
+    assert!(few.contains("invalid h = 0.01") && few.contains("max_steps = 99"), "{few}");
+    let zero = err(MegnoOptions { max_steps: 0, ..MegnoOptions::new(0.01, 1.0) });
+    assert!(zero.contains("invalid max_steps = 0"), "{zero}");
+    assert!(megno(&sys, &Rkmk::rk4(), 0.0, &y0, &MegnoOptions { max_steps: 100, ..MegnoOptions::new(0.01, 1.0) }, None).is_ok());
+}

@@ -45,6 +45,9 @@ pub struct GaliOptions {
     /// Integration time `T > 0` (the run stops earlier once the index is
     /// below `threshold`).
     pub duration: f64,
+    /// The most steps taken (1 … [`MAX_STEPS`](super::MAX_STEPS), the
+    /// default; a scene's options take its `method.max_steps`).
+    pub max_steps: usize,
     /// The number `k` of deviation vectors, `2 ≤ k ≤ DOF`.
     pub k: usize,
     /// The run stops when `GALI_k` falls below it, `1e-300 ≤ threshold < 1`
@@ -70,7 +73,7 @@ impl GaliOptions {
 
     /// [`new`](Self::new) with fixed or error-controlled steps.
     pub fn with_step(step: StepSize, duration: f64, k: usize) -> Self {
-        GaliOptions { step, duration, k, threshold: 1e-12, seed: 1, linearisation: Linearisation::default() }
+        GaliOptions { step, duration, max_steps: super::MAX_STEPS, k, threshold: 1e-12, seed: 1, linearisation: Linearisation::default() }
     }
 }
 
@@ -104,7 +107,7 @@ where
     S::State: GroupNumerics,
     M: Method<S>,
 {
-    let n = plan(&opts.step, opts.duration)?;
+    let n = plan(&opts.step, opts.duration, opts.max_steps)?;
     let dof = S::State::DOF;
     if !(2..=dof).contains(&opts.k) {
         return Err(AnalysisError::invalid("k", opts.k, format!("between 2 and {dof} (the state group's dimension)")));
@@ -122,7 +125,7 @@ where
     let log_threshold = opts.threshold.log10();
     let mut log10 = 0.0;
     let mut below_at = None;
-    let walked = walk(system, method, t0, y0, &opts.step, opts.duration, cancel, |s| {
+    let walked = walk(system, method, t0, y0, &opts.step, opts.duration, opts.max_steps, cancel, |s| {
         tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut q, &opts.linearisation)?;
         let rs = qr_in_place(&mut q, s.t1)?;
         r = rs * &r;

@@ -24,6 +24,9 @@ pub struct LyapunovOptions {
     pub step: StepSize,
     /// Integration time `T > 0` (including the transient).
     pub duration: f64,
+    /// The most steps taken (1 … [`MAX_STEPS`](super::MAX_STEPS), the
+    /// default; a scene's options take its `method.max_steps`).
+    pub max_steps: usize,
     /// Number `k` of exponents, `1 ≤ k ≤ DOF` (the largest `k`: the first `k`
     /// columns of the QR iteration).
     pub exponents: usize,
@@ -50,7 +53,7 @@ impl LyapunovOptions {
 
     /// [`new`](Self::new) with fixed or error-controlled steps.
     pub fn with_step(step: StepSize, duration: f64) -> Self {
-        LyapunovOptions { step, duration, exponents: 1, renormalise_every: 10, transient: 0.0, batches: 10, seed: 1, linearisation: Linearisation::default() }
+        LyapunovOptions { step, duration, max_steps: super::MAX_STEPS, exponents: 1, renormalise_every: 10, transient: 0.0, batches: 10, seed: 1, linearisation: Linearisation::default() }
     }
 
     /// With `k` exponents.
@@ -61,7 +64,7 @@ impl LyapunovOptions {
 
     /// The number of fixed steps (`None`: error-controlled), all settings checked.
     fn steps(&self, dof: usize) -> Result<Option<usize>, AnalysisError> {
-        let n = check_common(&self.step, self.duration, self.transient, self.renormalise_every, self.batches)?;
+        let n = check_common(&self.step, self.duration, self.max_steps, self.transient, self.renormalise_every, self.batches)?;
         self.linearisation.validate()?;
         if !(1..=dof).contains(&self.exponents) {
             return Err(AnalysisError::invalid("exponents", self.exponents, format!("between 1 and {dof} (the state group's dimension)")));
@@ -73,8 +76,8 @@ impl LyapunovOptions {
 /// Checks the settings common to both estimates; the number of fixed steps
 /// (`None`: error-controlled), checked to leave at least one
 /// re-orthonormalisation per batch after the transient.
-fn check_common(step: &StepSize, duration: f64, transient: f64, every: usize, batches: usize) -> Result<Option<usize>, AnalysisError> {
-    let n = plan(step, duration)?;
+fn check_common(step: &StepSize, duration: f64, max_steps: usize, transient: f64, every: usize, batches: usize) -> Result<Option<usize>, AnalysisError> {
+    let n = plan(step, duration, max_steps)?;
     if !(transient.is_finite() && transient >= 0.0 && transient < duration) {
         return Err(AnalysisError::invalid("transient", transient, format!("finite, ≥ 0 and < duration = {duration}")));
     }
@@ -270,7 +273,7 @@ where
     let t_avg = t0 + opts.transient;
     let stride = n.map(|n| history_stride(n, opts.renormalise_every));
     let mut acc = (opts.transient == 0.0).then(|| Accumulator::new(opts.exponents, t0, stride));
-    let walked = walk(system, method, t0, y0, &opts.step, opts.duration, cancel, |s| {
+    let walked = walk(system, method, t0, y0, &opts.step, opts.duration, opts.max_steps, cancel, |s| {
         tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut cols, &opts.linearisation)?;
         if s.index % opts.renormalise_every == 0 || s.last {
             let r = orthonormalise(&mut cols, s.t1)?;
@@ -296,6 +299,9 @@ pub struct TwoTrajectoryOptions {
     pub step: StepSize,
     /// Integration time `T > 0` (including the transient).
     pub duration: f64,
+    /// The most steps taken (1 … [`MAX_STEPS`](super::MAX_STEPS), the
+    /// default; a scene's options take its `method.max_steps`).
+    pub max_steps: usize,
     /// The separation `d₀` the companion is renormalised to (algebra
     /// units), `0 < d₀ ≤ 1e-3`.
     pub separation: f64,
@@ -317,7 +323,7 @@ impl TwoTrajectoryOptions {
 
     /// [`new`](Self::new) with fixed or error-controlled steps.
     pub fn with_step(step: StepSize, duration: f64) -> Self {
-        TwoTrajectoryOptions { step, duration, separation: 1e-8, renormalise_every: 10, transient: 0.0, batches: 10, seed: 1 }
+        TwoTrajectoryOptions { step, duration, max_steps: super::MAX_STEPS, separation: 1e-8, renormalise_every: 10, transient: 0.0, batches: 10, seed: 1 }
     }
 }
 
@@ -351,7 +357,7 @@ where
     S::State: GroupNumerics,
     M: Method<S>,
 {
-    let n = check_common(&opts.step, opts.duration, opts.transient, opts.renormalise_every, opts.batches)?;
+    let n = check_common(&opts.step, opts.duration, opts.max_steps, opts.transient, opts.renormalise_every, opts.batches)?;
     if !(opts.separation.is_finite() && opts.separation > 0.0 && opts.separation <= 1e-3) {
         return Err(AnalysisError::invalid("separation", opts.separation, "finite, > 0 and ≤ 1e-3"));
     }
@@ -365,7 +371,7 @@ where
     let t_avg = t0 + opts.transient;
     let stride = n.map(|n| history_stride(n, opts.renormalise_every));
     let mut acc = (opts.transient == 0.0).then(|| Accumulator::new(1, t0, stride));
-    let walked = walk(system, method, t0, y0, &opts.step, opts.duration, cancel, |s| {
+    let walked = walk(system, method, t0, y0, &opts.step, opts.duration, opts.max_steps, cancel, |s| {
         // The companion takes the trajectory's step.
         z = method.step(system, s.t0, &z, s.h, StepRequest::plain()).map(|o| o.y).map_err(|f| AnalysisError::Solve(fault_error(f, s.t0, s.h)))?;
         if s.index % opts.renormalise_every == 0 || s.last {

@@ -42,6 +42,9 @@ pub struct MegnoOptions {
     pub step: StepSize,
     /// Integration time `T > 0` (at most 1e9 steps).
     pub duration: f64,
+    /// The most steps taken (1 … [`MAX_STEPS`](super::MAX_STEPS), the
+    /// default; a scene's options take its `method.max_steps`).
+    pub max_steps: usize,
     /// Seed of the random initial tangent vector (the same vector as the
     /// first column of [`lyapunov_spectrum`](super::lyapunov_spectrum) with this seed).
     pub seed: u64,
@@ -57,7 +60,7 @@ impl MegnoOptions {
 
     /// [`new`](Self::new) with fixed or error-controlled steps.
     pub fn with_step(step: StepSize, duration: f64) -> Self {
-        MegnoOptions { step, duration, seed: 1, linearisation: Linearisation::default() }
+        MegnoOptions { step, duration, max_steps: super::MAX_STEPS, seed: 1, linearisation: Linearisation::default() }
     }
 }
 
@@ -99,7 +102,7 @@ where
     S::State: GroupNumerics,
     M: Method<S>,
 {
-    let n = plan(&opts.step, opts.duration)?;
+    let n = plan(&opts.step, opts.duration, opts.max_steps)?;
     opts.linearisation.validate()?;
     super::check_start(t0, y0)?;
     let mut col = super::lyapunov::random_frame(S::State::DOF, 1, opts.seed);
@@ -113,7 +116,7 @@ where
         None => s >= 0.5 * opts.duration,
     };
     let (mut fit_n, mut st, mut stt, mut sy, mut sty) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    let walked = walk(system, method, t0, y0, &opts.step, opts.duration, cancel, |step| {
+    let walked = walk(system, method, t0, y0, &opts.step, opts.duration, opts.max_steps, cancel, |step| {
         tangent_images(system, method, step.t0, step.y0, step.y1, step.h, &mut col, &opts.linearisation)?;
         let norm = col.column(0).norm();
         if !(norm.is_finite() && norm > 0.0) {

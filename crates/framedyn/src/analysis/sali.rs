@@ -34,6 +34,9 @@ pub struct SaliOptions {
     /// Integration time `T > 0` (the run stops earlier once SALI is below
     /// `threshold`).
     pub duration: f64,
+    /// The most steps taken (1 … [`MAX_STEPS`](super::MAX_STEPS), the
+    /// default; a scene's options take its `method.max_steps`).
+    pub max_steps: usize,
     /// The value below which the orbit is called chaotic, `0 < threshold < 1`.
     pub threshold: f64,
     /// Seed of the two random initial tangent vectors.
@@ -50,7 +53,7 @@ impl SaliOptions {
 
     /// [`new`](Self::new) with fixed or error-controlled steps.
     pub fn with_step(step: StepSize, duration: f64) -> Self {
-        SaliOptions { step, duration, threshold: 1e-8, seed: 1, linearisation: Linearisation::default() }
+        SaliOptions { step, duration, max_steps: super::MAX_STEPS, threshold: 1e-8, seed: 1, linearisation: Linearisation::default() }
     }
 }
 
@@ -76,7 +79,7 @@ where
     S::State: GroupNumerics,
     M: Method<S>,
 {
-    plan(&opts.step, opts.duration)?;
+    plan(&opts.step, opts.duration, opts.max_steps)?;
     if !(opts.threshold > 0.0 && opts.threshold < 1.0) {
         return Err(AnalysisError::invalid("threshold", opts.threshold, "between 0 and 1 (exclusive)"));
     }
@@ -93,7 +96,7 @@ where
     let mut index = pair.index;
     let mut min = f64::INFINITY;
     let mut chaotic_at = None;
-    let walked = walk(system, method, t0, y0, &opts.step, opts.duration, cancel, |s| {
+    let walked = walk(system, method, t0, y0, &opts.step, opts.duration, opts.max_steps, cancel, |s| {
         tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut cols, &opts.linearisation)?;
         index = pair.advance(&mut cols, s.t1)?;
         min = min.min(index);

@@ -244,11 +244,11 @@ where
 {
     lin.validate()?;
     super::check_start(t0, y0)?;
-    super::walk::plan(step, duration)?;
+    super::walk::plan(step, duration, super::MAX_STEPS)?;
     let dof = S::State::DOF;
     let mut cols = DMatrix::identity(dof, dof);
     let mut y = *y0;
-    let walked = super::walk::walk(system, method, t0, y0, step, duration, None, |s| {
+    let walked = super::walk::walk(system, method, t0, y0, step, duration, super::MAX_STEPS, None, |s| {
         tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut cols, lin)?;
         y = *s.y1;
         Ok(super::walk::Next::Go)

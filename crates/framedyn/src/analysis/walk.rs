@@ -9,8 +9,9 @@ use crate::dynamics::System;
 use crate::method::{GroupNumerics, Method};
 use crate::solve::{drive, fixed_step_count, Control, DriveError, Event, Save, Settings, Sink, StepSegment, StepSize, StopReason};
 
-/// The most steps an analysis takes (its fixed steps are checked against
-/// it before the run; an error-controlled run that needs more stops with
+/// The most steps an analysis takes, and the default of its options'
+/// `max_steps` (fixed steps are checked against `max_steps` before the run;
+/// an error-controlled run that needs more stops with
 /// [`SolveError::MaxSteps`](crate::solve::SolveError::MaxSteps)).
 pub const MAX_STEPS: usize = 1_000_000_000;
 
@@ -46,13 +47,17 @@ pub(crate) struct Walked {
     pub steps: usize,
 }
 
-/// Checks the step settings and the `duration` of an analysis: a fixed
-/// step `h` (finite, > 0, at most [`MAX_STEPS`] steps) or error-controlled
-/// steps (checked by the driver, like a run's). Returns the number of fixed
-/// steps, `None` for error-controlled ones.
-pub(crate) fn plan(step: &StepSize, duration: f64) -> Result<Option<usize>, AnalysisError> {
+/// Checks the step settings, the `duration` and `max_steps` of an analysis:
+/// a fixed step `h` (finite, > 0, at most `max_steps` steps) or
+/// error-controlled steps (checked by the driver, like a run's);
+/// `1 ≤ max_steps ≤` [`MAX_STEPS`]. Returns the number of fixed steps,
+/// `None` for error-controlled ones.
+pub(crate) fn plan(step: &StepSize, duration: f64, max_steps: usize) -> Result<Option<usize>, AnalysisError> {
     if !(duration.is_finite() && duration > 0.0) {
         return Err(AnalysisError::invalid("duration", duration, "finite and > 0"));
+    }
+    if !(1..=MAX_STEPS).contains(&max_steps) {
+        return Err(AnalysisError::invalid("max_steps", max_steps, format!("between 1 and {MAX_STEPS:e}")));
     }
     match step {
         StepSize::Fixed(h) => {
@@ -60,8 +65,8 @@ pub(crate) fn plan(step: &StepSize, duration: f64) -> Result<Option<usize>, Anal
                 return Err(AnalysisError::invalid("h", h, "finite and > 0"));
             }
             let n = fixed_step_count(0.0, duration, *h)?;
-            if n > MAX_STEPS {
-                return Err(AnalysisError::invalid("h", h, format!("≥ duration/{MAX_STEPS:e} = {:e} (at most {MAX_STEPS:e} steps)", duration / MAX_STEPS as f64)));
+            if n > max_steps {
+                return Err(AnalysisError::invalid("h", h, format!("≥ duration/max_steps = {:e} (at most max_steps = {max_steps} steps)", duration / max_steps as f64)));
             }
             Ok(Some(n))
         }
@@ -108,14 +113,14 @@ where
     }
 }
 
-/// Steps `method` from `(t0, y0)` over `duration` with `step` (checked by
-/// [`plan`]) through the driver, calling `each` after every accepted step;
+/// Steps `method` from `(t0, y0)` over `duration` with `step`, at most
+/// `max_steps` steps (checked by [`plan`]), through the driver, calling `each` after every accepted step;
 /// `cancel` is looked at before each. Fixed steps are those of a run
 /// ([`fixed_step_count`]: equal steps, the last landing on the end); error-
 /// controlled steps are chosen by the driver's controller for the
 /// trajectory alone.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn walk<S, M, F>(system: &S, method: &M, t0: f64, y0: &S::State, step: &StepSize, duration: f64, cancel: Option<&AtomicBool>, each: F) -> Result<Walked, AnalysisError>
+pub(crate) fn walk<S, M, F>(system: &S, method: &M, t0: f64, y0: &S::State, step: &StepSize, duration: f64, max_steps: usize, cancel: Option<&AtomicBool>, each: F) -> Result<Walked, AnalysisError>
 where
     S: System,
     S::State: GroupNumerics,
@@ -123,7 +128,7 @@ where
     F: FnMut(&Step<'_, S::State>) -> Result<Next, AnalysisError>,
 {
     let t_end = t0 + duration;
-    let settings = Settings { step: step.clone(), save: Save::Ends, dense: false, max_steps: MAX_STEPS, event_xtol: 0.0 };
+    let settings = Settings { step: step.clone(), save: Save::Ends, dense: false, max_steps, event_xtol: 0.0 };
     let mut sink = Each { each, cancel, t_end, steps: 0, t: t0 };
     let mut control = Control::default();
     let mut events: &[Event<S::State>] = &[];

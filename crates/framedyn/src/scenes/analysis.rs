@@ -84,13 +84,15 @@ pub enum SceneAnalysisError {
     Analysis(#[from] AnalysisError),
 }
 
-/// The scene's model, method, `t₀`, steps and span.
+/// The scene's model, method, `t₀`, steps, span and step limit.
 struct Prepared {
     model: Box<dyn DynAnalysis>,
     method: AnyMethod,
     t0: f64,
     step: StepSize,
     duration: f64,
+    /// `method.max_steps`, at most [`crate::analysis::MAX_STEPS`].
+    max_steps: usize,
 }
 
 impl Scene {
@@ -110,7 +112,8 @@ impl Scene {
         if !model.supports(plan.entry.needs) {
             return Err(self.locate(SceneError::invalid("method.name", format!("\"{}\"", plan.entry.name), format!("a method this model can take (it needs {})", plan.entry.needs.describe()))));
         }
-        Ok(Prepared { model, method, t0: plan.t0, step: plan.settings.step.clone(), duration: plan.t_end - plan.t0 })
+        let max_steps = plan.settings.max_steps.min(crate::analysis::MAX_STEPS);
+        Ok(Prepared { model, method, t0: plan.t0, step: plan.settings.step.clone(), duration: plan.t_end - plan.t0, max_steps })
     }
 
     /// The dimension of the scene's state group: the number of Lyapunov
@@ -119,18 +122,18 @@ impl Scene {
         Ok(self.prepare_analysis()?.model.dof())
     }
 
-    /// [`LyapunovOptions`] with the scene's steps (fixed or error-controlled)
-    /// and time span (the other settings at their defaults: the largest
+    /// [`LyapunovOptions`] with the scene's steps (fixed or error-controlled),
+    /// time span and `method.max_steps` (the other settings at their defaults: the largest
     /// exponent only).
     pub fn lyapunov_options(&self) -> Result<LyapunovOptions, SceneError> {
         let p = self.prepare_analysis()?;
-        Ok(LyapunovOptions::with_step(p.step, p.duration))
+        Ok(LyapunovOptions { max_steps: p.max_steps, ..LyapunovOptions::with_step(p.step, p.duration) })
     }
 
-    /// [`TwoTrajectoryOptions`] with the scene's steps and time span.
+    /// [`TwoTrajectoryOptions`] with the scene's steps, time span and `method.max_steps`.
     pub fn two_trajectory_options(&self) -> Result<TwoTrajectoryOptions, SceneError> {
         let p = self.prepare_analysis()?;
-        Ok(TwoTrajectoryOptions::with_step(p.step, p.duration))
+        Ok(TwoTrajectoryOptions { max_steps: p.max_steps, ..TwoTrajectoryOptions::with_step(p.step, p.duration) })
     }
 
     /// The Lyapunov exponents of the scene's trajectory
@@ -143,10 +146,10 @@ impl Scene {
         Ok(p.model.lyapunov(&p.method, p.t0, opts, cancel)?)
     }
 
-    /// [`SaliOptions`] with the scene's steps and time span.
+    /// [`SaliOptions`] with the scene's steps, time span and `method.max_steps`.
     pub fn sali_options(&self) -> Result<SaliOptions, SceneError> {
         let p = self.prepare_analysis()?;
-        Ok(SaliOptions::with_step(p.step, p.duration))
+        Ok(SaliOptions { max_steps: p.max_steps, ..SaliOptions::with_step(p.step, p.duration) })
     }
 
     /// The Smaller Alignment Index of the scene's trajectory ([`sali()`]): a
@@ -156,10 +159,10 @@ impl Scene {
         Ok(p.model.sali(&p.method, p.t0, opts, cancel)?)
     }
 
-    /// [`MegnoOptions`] with the scene's steps and time span.
+    /// [`MegnoOptions`] with the scene's steps, time span and `method.max_steps`.
     pub fn megno_options(&self) -> Result<MegnoOptions, SceneError> {
         let p = self.prepare_analysis()?;
-        Ok(MegnoOptions::with_step(p.step, p.duration))
+        Ok(MegnoOptions { max_steps: p.max_steps, ..MegnoOptions::with_step(p.step, p.duration) })
     }
 
     /// MEGNO of the scene's trajectory ([`megno()`]): a fast chaos
@@ -170,10 +173,10 @@ impl Scene {
         Ok(p.model.megno(&p.method, p.t0, opts, cancel)?)
     }
 
-    /// [`GaliOptions`] with the scene's steps and time span and `k` vectors.
+    /// [`GaliOptions`] with the scene's steps, time span, `method.max_steps` and `k` vectors.
     pub fn gali_options(&self, k: usize) -> Result<GaliOptions, SceneError> {
         let p = self.prepare_analysis()?;
-        Ok(GaliOptions::with_step(p.step, p.duration, k))
+        Ok(GaliOptions { max_steps: p.max_steps, ..GaliOptions::with_step(p.step, p.duration, k) })
     }
 
     /// The Generalised Alignment Index `GALI_k` of the scene's trajectory
