@@ -102,14 +102,15 @@ fn check_common(step: &StepSize, duration: f64, max_steps: usize, transient: f64
     Ok(n)
 }
 
-/// After an error-controlled run (whose steps are not known in advance):
-/// enough re-orthonormalisations after the transient for the batches.
-fn check_batches(recorded: usize, duration: f64, batches: usize, every: usize) -> Result<(), AnalysisError> {
-    if recorded < batches {
+/// After the run (an error-controlled run's steps are not known in
+/// advance): enough running estimates after the transient for the batches.
+fn check_batches(acc: &Accumulator, duration: f64, batches: usize, every: usize) -> Result<(), AnalysisError> {
+    let (made, kept) = (acc.added, acc.recorded());
+    if kept < batches {
         return Err(AnalysisError::invalid(
             "duration",
             duration,
-            format!("long enough for {batches} batches of re-orthonormalisations after the transient (this run made {recorded}, one every {every} steps)"),
+            format!("long enough for {batches} batches of re-orthonormalisations after the transient (this run made {made}, one every {every} steps, and kept {kept} running estimates)"),
         ));
     }
     Ok(())
@@ -193,6 +194,8 @@ pub(crate) fn history_stride(n: usize, every: usize) -> usize {
 struct Accumulator {
     t_start: f64,
     sums: Vec<f64>,
+    /// Re-orthonormalisations added.
+    added: usize,
     history: History<Vec<f64>>,
 }
 
@@ -201,7 +204,7 @@ impl Accumulator {
     /// [`History::growing`] keeps).
     fn new(k: usize, t_start: f64, stride: Option<usize>) -> Self {
         let history = stride.map_or_else(History::growing, History::every);
-        Accumulator { t_start, sums: vec![0.0; k], history }
+        Accumulator { t_start, sums: vec![0.0; k], added: 0, history }
     }
 
     /// Adds one re-orthonormalisation's logarithms and offers the running
@@ -211,6 +214,7 @@ impl Accumulator {
         for (s, l) in self.sums.iter_mut().zip(logs) {
             *s += l;
         }
+        self.added += 1;
         let sums = &self.sums;
         self.history.offer(t, || sums.clone(), last);
     }
@@ -286,7 +290,7 @@ where
         Ok(Next::Go)
     })?;
     let acc = acc.ok_or_else(|| AnalysisError::invalid("transient", opts.transient, "shorter than the run"))?;
-    check_batches(acc.recorded(), opts.duration, opts.batches, opts.renormalise_every)?;
+    check_batches(&acc, opts.duration, opts.batches, opts.renormalise_every)?;
     let (exponents, stderr, spread, times, running) = acc.finish(opts.batches);
     Ok(LyapunovEstimate { exponents, stderr, spread, times, running, steps: walked.steps, steps_per_step: 1 + opts.exponents * opts.linearisation.steps_per_column() })
 }
@@ -392,7 +396,7 @@ where
         Ok(Next::Go)
     })?;
     let acc = acc.ok_or_else(|| AnalysisError::invalid("transient", opts.transient, "shorter than the run"))?;
-    check_batches(acc.recorded(), opts.duration, opts.batches, opts.renormalise_every)?;
+    check_batches(&acc, opts.duration, opts.batches, opts.renormalise_every)?;
     let (e, se, sp, times, running) = acc.finish(opts.batches);
     Ok(TwoTrajectoryEstimate { exponent: e[0], stderr: se[0], spread: sp[0], times, running: running.into_iter().map(|r| r[0]).collect(), steps: walked.steps })
 }
