@@ -6,8 +6,10 @@
 //! the base scene with row `i` of the table applied (dotted scene fields,
 //! e.g. `initial.position.0`, `body.J.0.1`, `method.h`). Each indicator of
 //! a member is computed exactly as [`Scene::sali`] and [`Scene::megno`]
-//! compute it for that scene alone, with the step and span of the member's
-//! own scene, so the columns equal the single calls bit for bit. A member
+//! compute it for that scene alone, with the steps (fixed `method.h` or
+//! error-controlled `method.rtol`/`atol`), span and `method.max_steps` of
+//! the member's own scene, so the columns equal the single calls bit for
+//! bit. A member
 //! whose scene is invalid or whose run fails gets NaN in the columns of the
 //! failed indicator and its [`MemberStatus`] and message; the other members
 //! are not affected. Cancellation stops running members within a step and
@@ -35,8 +37,9 @@ use rayon::prelude::*;
 use super::{AnalysisError, Linearisation};
 use crate::scenes::{workers, EnsembleOptions, FieldPath, MemberStatus, Scene, SceneAnalysisError, Table, Workers};
 
-/// Settings of [`chaos_map`]. The step and span of each member are those of
-/// its scene (`method.h`, `time.t0`, `time.t_end`, which the table may set).
+/// Settings of [`chaos_map`]. The steps and span of each member are those of
+/// its scene (`method.h` or `method.rtol`/`atol`, `time.t0`, `time.t_end`,
+/// which the table may set).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ChaosMapOptions {
     /// Compute SALI ([`super::sali()`]).
