@@ -125,3 +125,31 @@ fn regular_gali_falls_like_a_power_of_t() {
         assert!(g.log10 > -8.0 && g.below_at.is_none(), "GALI_{k} = 10^{}", g.log10);
     }
 }
+
+/// The non-Bertrand central orbit of `s2-point-central` (V = r²/2, T = 10⁴,
+/// DOP853 at tol 1e-11): GALI₂ falls like 1/t at first (10^−1.70 at
+/// t = 1000) and then stays (10^−1.86 at t = 10⁴). So on the frame-bundle
+/// states a non-degenerate regular orbit keeps two drifting directions, as
+/// the Bertrand orbit does (above): GALI₂ does not tell them apart, because
+/// the parallel frame's holonomy angle drifts with the energy and angular
+/// momentum in both (docs/integrability.md, "A third indicator: GALI").
+#[test]
+fn regular_central_gali2_levels_off_after_a_transient() {
+    use framedyn::scenes::Scene;
+    use std::sync::atomic::AtomicBool;
+    let mut central: Scene = framedyn::scenes::example("s2-point-central").unwrap();
+    central.time.t_end = 10_000.0;
+    central.method.name = "dop853".into();
+    central.method.h = None;
+    central.method.rtol = Some(1e-11.into());
+    central.method.atol = Some(1e-11.into());
+    let opts = GaliOptions { threshold: 1e-300, ..central.gali_options(2).unwrap() };
+    let g = central.gali(&opts, &AtomicBool::new(false)).unwrap();
+    let at = |t: f64| g.running_log10[g.times.iter().position(|x| *x >= t).unwrap()];
+    let (l100, l1000, l5000) = (at(100.0), at(1000.0), at(5000.0));
+    println!("GALI₂: 10^{l100:.2} at t = 100, 10^{l1000:.2} at 1000, 10^{l5000:.2} at 5000, 10^{:.2} at 10⁴ ({} steps)", g.log10, g.steps);
+    // A fall at first: slope about −1 over t = 100 … 1000.
+    assert!(l1000 - l100 < -0.5, "GALI₂ did not fall over t = 100 … 1000: {l100} → {l1000}");
+    // Then level: over the last half decade it moves by less than 0.15 in log₁₀ (a 1/t fall would be 0.3).
+    assert!((g.log10 - l5000).abs() < 0.15, "GALI₂ still falling: {l5000} at 5000, {} at 10⁴", g.log10);
+}

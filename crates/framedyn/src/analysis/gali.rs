@@ -10,8 +10,10 @@
 //! neighbouring motions drift apart linearly (the torus's dimension, in
 //! canonical coordinates) and falls like a power of `t` above it (Skokos,
 //! Bountis & Antonopoulos 2008). The frame-bundle state carries the parallel
-//! frame, whose holonomy angle can drift too, so on our states that count
-//! is the lifted motion's, not the torus's (docs/integrability.md, "GALI").
+//! frame, whose holonomy angle drifts too, so on our states that count is
+//! the lifted motion's: on the sphere a Bertrand orbit and a non-Bertrand
+//! central orbit both keep two drifting directions (docs/integrability.md,
+//! "A third indicator: GALI").
 //! `GALI_2` is SALI's relative: `GALI_2 = S·√(1 − S²/4)` for `S = SALI` of
 //! the same two vectors.
 //!
