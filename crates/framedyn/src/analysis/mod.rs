@@ -59,9 +59,10 @@
 //! (Benettin, Galgani, Strelcyn 1976) — independent of the tangent code.
 //! [`sali()`]: the Smaller Alignment Index (Skokos 2001), a fast chaos
 //! indicator from two tangent vectors. [`gali()`]: the Generalised Alignment
-//! Index of `k` vectors (Skokos, Bountis & Antonopoulos 2007), whose decay
-//! on a regular orbit tells the dimension of its torus. [`megno()`]: the Mean Exponential
-//! Growth factor of Nearby Orbits (Cincotta & Simó 2000) from one.
+//! Index of `k` vectors (Skokos, Bountis & Antonopoulos 2007): an
+//! exponential fall on a chaotic orbit, a power law or none on a regular
+//! one. [`megno()`]: the Mean Exponential Growth factor of Nearby Orbits
+//! (Cincotta & Simó 2000) from one tangent vector.
 //! [`chaos_map`]: SALI and MEGNO of every member of an ensemble table, in
 //! parallel, as columns (maps over initial conditions).
 //!
