@@ -86,7 +86,10 @@ class ChaosMap:
     ``megno=True``): ``megno`` (``Y`` at the end), ``megno_mean`` (``⟨Y⟩``:
     → 2 regular, ≈ λ₁t/2 chaotic), ``megno_slope`` (of ``⟨Y⟩`` over the
     second half, ≈ λ₁/2 chaotic), ``lyapunov`` (the finite-time maximal
-    exponent of MEGNO's tangent vector), ``megno_steps``. Columns of an
+    exponent of MEGNO's tangent vector), ``megno_steps``. GALI_k (with
+    ``gali=k``): ``gali_log10`` (``log₁₀ GALI_k`` at the end),
+    ``gali_below_at`` (the time it fell below ``gali_threshold``: the run
+    stops there; NaN if it did not), ``gali_steps``. Columns of an
     indicator not asked for, or that failed on a member, hold NaN (steps 0).
 
     ``status``: per member ``'finished'``, ``'invalid'`` (its scene cannot
@@ -104,6 +107,9 @@ class ChaosMap:
     megno_slope: np.ndarray
     lyapunov: np.ndarray
     megno_steps: np.ndarray
+    gali_log10: np.ndarray
+    gali_below_at: np.ndarray
+    gali_steps: np.ndarray
     status: np.ndarray
     status_codes: np.ndarray
     status_names: Tuple[str, ...]
@@ -418,14 +424,16 @@ def chaos_map(
     *,
     sali: bool = True,
     megno: bool = True,
+    gali: Optional[int] = None,
     threshold: float = 1e-8,
+    gali_threshold: float = 1e-12,
     seed: int = 1,
     eps: Optional[float] = None,
     fourth_order: bool = False,
     threads: Optional[int] = None,
     oversubscribe: bool = False,
 ) -> ChaosMap:
-    """SALI and/or MEGNO over initial conditions: every member of ``table``
+    """SALI, MEGNO and/or GALI_k over initial conditions: every member of ``table``
     on ``scene``, in parallel (Rust threads, GIL released), returned as
     columns (:class:`ChaosMap`) — no Python object per member::
 
@@ -436,11 +444,13 @@ def chaos_map(
     scene fields (``initial.position.0``, ``body.J.0.1``, ``method.h``, …)
     to 1-D arrays of equal length N, or a pandas / polars DataFrame. Each
     member is the scene with its row applied, and its values are exactly
-    (bit for bit) those of :func:`sali` and :func:`megno` on that scene
-    alone with the same ``threshold``, ``seed``, ``eps`` and
+    (bit for bit) those of :func:`sali`, :func:`megno` and :func:`gali` on
+    that scene alone with the same ``threshold`` (``gali_threshold``),
+    ``seed``, ``eps`` and
     ``fourth_order``: its method, steps (fixed ``method.h`` or
     ``rtol``/``atol``) and time span.
-    ``sali``, ``megno``: which indicators (at least one). ``threads``:
+    ``sali``, ``megno``, ``gali`` (its ``k``, or ``None``): which indicators
+    (at least one). ``threads``:
     worker threads (default one per core; never more than the members, nor
     than the cores unless ``oversubscribe=True``).
 
@@ -459,7 +469,9 @@ def chaos_map(
         cols,
         sali,
         megno,
+        check_int(gali, "gali", 2, 10_000, optional=True),
         _real(threshold, "threshold"),
+        _real(gali_threshold, "gali_threshold"),
         check_int(seed, "seed", 0, _U64_MAX),
         None if eps is None else _real(eps, "eps"),
         fourth_order,
@@ -478,6 +490,9 @@ def chaos_map(
         megno_slope=raw["megno_slope"],
         lyapunov=raw["lyapunov"],
         megno_steps=raw["megno_steps"],
+        gali_log10=raw["gali_log10"],
+        gali_below_at=raw["gali_below_at"],
+        gali_steps=raw["gali_steps"],
         status=np.array(status_names)[codes],
         status_codes=codes,
         status_names=status_names,

@@ -157,11 +157,13 @@ def chaos_map(
     columns: List[Any],
     sali: bool,
     megno: bool,
+    gali: Optional[int],
     threshold: float,
+    gali_threshold: float,
     seed: int,
     eps: Optional[float],
     fourth_order: bool,
     threads: Optional[int],
     oversubscribe: bool,
 ) -> Dict[str, Any]:
-    """SALI and MEGNO of every member of a table: ``{"sali", "sali_min", "chaotic_at", "sali_steps", "megno", "megno_mean", "megno_slope", "lyapunov", "megno_steps", "status", "status_names", "errors"}``."""
+    """SALI, MEGNO and GALI_k of every member of a table: ``{"sali", "sali_min", "chaotic_at", "sali_steps", "megno", "megno_mean", "megno_slope", "lyapunov", "megno_steps", "gali_log10", "gali_below_at", "gali_steps", "status", "status_names", "errors"}``."""

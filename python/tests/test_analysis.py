@@ -211,6 +211,16 @@ def test_chaos_map_equals_single_calls_bit_for_bit():
         y = fd.megno(member, seed=7)
         assert (m.megno[i], m.megno_mean[i], m.megno_slope[i], m.lyapunov[i], int(m.megno_steps[i])) == (y.megno, y.mean, y.slope, y.lyapunov, y.steps)
         assert m.errors[i] is None
+    # GALI_3 in the same map: each member's single call, bit for bit.
+    g = fd.chaos_map(base, table, sali=False, megno=False, gali=3, gali_threshold=1e-6, seed=7)
+    # The radial fall (member 3): GALI_3 falls below 1e-6 before the fall breaks the step.
+    assert list(g.status) == ["finished", "finished", "invalid", "finished", "finished"]
+    assert np.all(np.isnan(g.sali)) and np.all(np.isnan(g.megno_mean)) and g.gali_below_at[3] < 5.0
+    for i in (0, 1, 3, 4):
+        member = base.with_params({k: float(v[i]) for k, v in table.items()})
+        r = fd.gali(member, k=3, threshold=1e-6, seed=7)
+        assert (g.gali_log10[i], int(g.gali_steps[i])) == (r.log10, r.steps)
+        assert g.gali_below_at[i] == r.below_at if r.below_at is not None else math.isnan(g.gali_below_at[i])
     # One thread gives the same bits; MEGNO alone leaves SALI's columns NaN.
     one = fd.chaos_map(base, table, threshold=1e-3, seed=7, threads=1)
     assert np.array_equal(one.megno_mean, m.megno_mean, equal_nan=True) and np.array_equal(one.sali, m.sali, equal_nan=True)
@@ -223,6 +233,10 @@ def test_chaos_map_bad_input_is_typed():
     table = _kepler_map_table()
     with pytest.raises(fd.InvalidInputError, match="indicators"):
         fd.chaos_map(base, table, sali=False, megno=False)
+    with pytest.raises(fd.InvalidInputError, match="gali"):
+        fd.chaos_map(base, table, gali=1)
+    with pytest.raises(fd.InvalidInputError, match="gali_threshold"):
+        fd.chaos_map(base, table, gali=2, gali_threshold=0.0)
     with pytest.raises(fd.InvalidInputError, match="threshold"):
         fd.chaos_map(base, table, threshold=2.0)
     with pytest.raises(fd.InvalidInputError, match="eps"):

@@ -90,8 +90,9 @@ fn kepler_table() -> (framedyn::scenes::Scene, framedyn::scenes::Table) {
     (base, table)
 }
 
-/// `chaos_map` gives every member exactly (bit for bit) the SALI and MEGNO
-/// values of `Scene::sali` and `Scene::megno` on that member's scene alone,
+/// `chaos_map` gives every member exactly (bit for bit) the SALI, MEGNO and
+/// GALI₃ values of `Scene::sali`, `Scene::megno` and `Scene::gali` on that
+/// member's scene alone,
 /// with the same threshold, seed and linearisation, serially and on two
 /// threads; a member whose scene is invalid (negative `method.h`) or whose
 /// run fails gets its status, its message and NaN in the failed
@@ -103,7 +104,7 @@ fn chaos_map_equals_single_calls_member_for_member() {
     use framedyn::scenes::MemberStatus;
     let (base, table) = kepler_table();
     let no = AtomicBool::new(false);
-    let opts = ChaosMapOptions { threshold: 1e-3, seed: 7, threads: Some(2), ..ChaosMapOptions::default() };
+    let opts = ChaosMapOptions { threshold: 1e-3, seed: 7, gali: Some(3), gali_threshold: 1e-6, threads: Some(2), ..ChaosMapOptions::default() };
     let map = chaos_map(&base, &table, &opts, &no).unwrap();
     let serial = chaos_map(&base, &table, &ChaosMapOptions { threads: Some(1), ..opts }, &no).unwrap();
     assert_eq!(format!("{map:?}"), format!("{serial:?}"), "two threads and one differ");
@@ -120,6 +121,11 @@ fn chaos_map_equals_single_calls_member_for_member() {
         let m = scene.megno_options().map_err(framedyn::scenes::SceneAnalysisError::from).and_then(|mut o| {
             o.seed = 7;
             scene.megno(&o, &no)
+        });
+        let g = scene.gali_options(3).map_err(framedyn::scenes::SceneAnalysisError::from).and_then(|mut o| {
+            o.seed = 7;
+            o.threshold = 1e-6;
+            scene.gali(&o, &no)
         });
         // Each indicator as alone: its values bit for bit, or NaN and the
         // message of the single call's error (the first failure's).
@@ -141,10 +147,18 @@ fn chaos_map_equals_single_calls_member_for_member() {
             }
             Err(_) => assert!(map.megno[i].is_nan() && map.megno_mean[i].is_nan() && map.lyapunov[i].is_nan() && map.megno_steps[i] == 0, "member {i}"),
         }
-        match (&s, &m) {
-            (Ok(_), Ok(_)) => assert_eq!((map.status[i], &map.errors[i]), (MemberStatus::Finished, &None), "member {i}"),
-            (Err(e), _) | (Ok(_), Err(e)) => {
-                let what = if s.is_err() { "sali" } else { "megno" };
+        // GALI is computed unless the scene is invalid (then SALI's error ends the member).
+        match (&g, map.status[i]) {
+            (Ok(g), _) => {
+                assert_eq!([map.gali_log10[i], map.gali_below_at[i]].map(bits), [g.log10, g.below_at.unwrap_or(f64::NAN)].map(bits), "member {i}: GALI");
+                assert_eq!(map.gali_steps[i], g.steps as u64);
+            }
+            (Err(_), _) => assert!(map.gali_log10[i].is_nan() && map.gali_below_at[i].is_nan() && map.gali_steps[i] == 0, "member {i}"),
+        }
+        let first = [("sali", s.as_ref().err()), ("megno", m.as_ref().err()), ("gali", g.as_ref().err())].into_iter().find_map(|(what, e)| e.map(|e| (what, e)));
+        match first {
+            None => assert_eq!((map.status[i], &map.errors[i]), (MemberStatus::Finished, &None), "member {i}"),
+            Some((what, e)) => {
                 assert_eq!(map.errors[i].as_deref(), Some(format!("member {i}: {what}: {e}").as_str()));
                 assert_ne!(map.status[i], MemberStatus::Finished, "member {i}");
             }
@@ -172,7 +186,10 @@ fn chaos_map_refuses_bad_options_and_honours_cancel() {
         other => panic!("not an invalid parameter: {other}"),
     };
     let d = ChaosMapOptions::default();
-    assert_eq!(field(ChaosMapOptions { sali: false, megno: false, ..d }), ("indicators", "at least one of sali and megno".to_string()));
+    assert_eq!(field(ChaosMapOptions { sali: false, megno: false, ..d }), ("indicators", "at least one of sali, megno and gali".to_string()));
+    assert_eq!(field(ChaosMapOptions { gali: Some(1), ..d }).0, "k");
+    assert_eq!(field(ChaosMapOptions { gali: Some(2), gali_threshold: 0.0, ..d }).0, "gali_threshold");
+    assert!(chaos_map(&base, &table, &ChaosMapOptions { sali: false, megno: false, gali: Some(2), ..d }, &no).is_ok());
     assert_eq!(field(ChaosMapOptions { threshold: 1.0, ..d }), ("threshold", "between 0 and 1 (exclusive)".to_string()));
     assert_eq!(field(ChaosMapOptions { threads: Some(0), ..d }), ("threads", "between 1 and 1024".to_string()));
     assert_eq!(field(ChaosMapOptions { linearisation: Linearisation { eps: 0.5, ..Linearisation::default() }, ..d }).0, "eps");

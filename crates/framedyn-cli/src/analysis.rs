@@ -73,7 +73,7 @@ impl TangentArgs {
     }
 }
 
-/// A map over a member table, shared by `sali` and `megno`.
+/// A map over a member table, shared by `sali`, `megno` and `gali`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct MapArgs {
     /// Map the indicator over the members of this table (CSV with a header of dotted scene fields, or .npz), one CSV line per member.
@@ -128,6 +128,7 @@ fn option_name(field: &str) -> String {
     match field {
         "renormalise_every" => "--every".into(),
         "k" => "-k".into(),
+        "gali_threshold" => "--threshold".into(),
         "h" => "method.h (the scene's step)".into(),
         "duration" => "time.t_end − time.t0 (the scene's span)".into(),
         f => format!("--{}", f.replace('_', "-")),
@@ -310,17 +311,23 @@ pub struct GaliArgs {
     pub threshold: f64,
     /// Seed and linearisation of the tangent vectors.
     pub tangent: TangentArgs,
-    /// Where to write the running values.
+    /// A map over a member table.
+    pub map: MapArgs,
+    /// Where to write the running values (or the map).
     pub output: Option<std::path::PathBuf>,
 }
 
 /// `framedyn gali`.
 pub fn gali(scene: &Scene, origin: &str, args: &GaliArgs) -> Result<(), (u8, String)> {
-    let cancel = signals::arm();
     let k = match args.k {
         Some(k) => k,
         None => scene.state_dimension().map_err(|e| error(origin, e.into()))?,
     };
+    if let Some(table) = &args.map.table {
+        let opts = ChaosMapOptions { sali: false, megno: false, gali: Some(k), gali_threshold: args.threshold, ..map_options(&args.tangent, &args.map) };
+        return map(scene, origin, table, &opts, args.output.as_deref());
+    }
+    let cancel = signals::arm();
     let mut opts = scene.gali_options(k).map_err(|e| error(origin, e.into()))?;
     opts.threshold = args.threshold;
     opts.seed = args.tangent.seed;
@@ -368,7 +375,7 @@ fn csv_field(text: &str) -> String {
     }
 }
 
-/// `framedyn sali|megno SCENE --table`: the indicator of `opts` over the
+/// `framedyn sali|megno|gali SCENE --table`: the indicator of `opts` over the
 /// members of the table, one CSV line per member.
 fn map(scene: &Scene, origin: &str, table: &Path, opts: &ChaosMapOptions, output: Option<&Path>) -> Result<(), (u8, String)> {
     let table = crate::sweep::read_table(table).map_err(|e| match e {
@@ -401,6 +408,11 @@ fn map(scene: &Scene, origin: &str, table: &Path, opts: &ChaosMapOptions, output
         add("lyapunov", floats(&m.lyapunov));
         add("megno_steps", ints(&m.megno_steps));
     }
+    if opts.gali.is_some() {
+        add("gali_log10", floats(&m.gali_log10));
+        add("gali_below_at", floats(&m.gali_below_at));
+        add("gali_steps", ints(&m.gali_steps));
+    }
     add("status", m.status.iter().map(|s| s.name().to_string()).collect());
     add("error", m.errors.iter().map(|e| csv_field(e.as_deref().unwrap_or(""))).collect());
     let mut text = header.join(",") + "\n";
@@ -418,6 +430,9 @@ fn map(scene: &Scene, origin: &str, table: &Path, opts: &ChaosMapOptions, output
     let mut report = vec![format!("scene:           {origin}"), format!("members:         {} ({})", m.len(), counts.join(", "))];
     if opts.sali {
         report.push(format!("chaotic:         {} by SALI < {:e}", m.chaotic_at.iter().filter(|t| t.is_finite()).count(), opts.threshold));
+    }
+    if let Some(k) = opts.gali {
+        report.push(format!("below:           {} with GALI_{k} < {:e}", m.gali_below_at.iter().filter(|t| t.is_finite()).count(), opts.gali_threshold));
     }
     if opts.megno {
         report.push(format!("<Y> > 4:         {} by MEGNO (2: quasi-periodic, ~lambda_1 t/2: chaotic)", m.megno_mean.iter().filter(|y| **y > 4.0).count()));

@@ -204,7 +204,9 @@ enum Command {
         threshold: f64,
         #[command(flatten)]
         tangent: analysis::TangentArgs,
-        /// Write the running values (t, log10_gali) to this CSV.
+        #[command(flatten)]
+        map: analysis::MapArgs,
+        /// Write the running values (t, log10_gali) to this CSV; with --table, the map (default: standard output).
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
@@ -399,13 +401,13 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
             let (s, origin) = load(&scene)?;
             analysis::sali(&s, &origin, &analysis::SaliArgs { threshold, tangent, map, output })
         }
-        Command::Gali { scene, k, threshold, tangent, output } => {
+        Command::Gali { scene, k, threshold, tangent, map, output } => {
             let (s, origin) = load(&scene)?;
             let k = match k.as_str() {
                 "all" => None,
                 k => Some(k.parse::<usize>().map_err(|_| (2, format!("invalid -k = {k:?}: must be an integer ≥ 2 or `all`")))?),
             };
-            analysis::gali(&s, &origin, &analysis::GaliArgs { k, threshold, tangent, output })
+            analysis::gali(&s, &origin, &analysis::GaliArgs { k, threshold, tangent, map, output })
         }
         Command::Megno { scene, tangent, map, output } => {
             let (s, origin) = load(&scene)?;

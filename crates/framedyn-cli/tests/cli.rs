@@ -980,6 +980,19 @@ fn sali_and_megno_map_a_member_table() {
         assert_eq!(m[i + 1][3..8], [format!("{:?}", y.megno), format!("{:?}", y.mean), format!("{:?}", y.slope), format!("{:?}", y.lyapunov), y.steps.to_string()], "member {i}");
     }
     assert_eq!(s[2][3..8], ["NaN", "NaN", "NaN", "0", "invalid"]);
+    // GALI over the same table: its columns, the single call's values.
+    let o = framedyn(&["gali", "kepler.toml", "-k", "3", "--table", "members.csv", "--threshold", "1e-6", "--seed", "3"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let g = lines(&stdout(&o));
+    assert_eq!(g[0], ["initial.r", "initial.phi_dot", "method.h", "gali_log10", "gali_below_at", "gali_steps", "status", "error"]);
+    for i in [0, 2] {
+        let scene = table.member(&base, i).unwrap();
+        let mut go = scene.gali_options(3).unwrap();
+        go.threshold = 1e-6;
+        go.seed = 3;
+        let e = scene.gali(&go, &no).unwrap();
+        assert_eq!(g[i + 1][3..6], [format!("{:?}", e.log10), format!("{:?}", e.below_at.unwrap_or(f64::NAN)), e.steps.to_string()], "member {i}");
+    }
     assert!(sali_csv.lines().nth(2).unwrap().contains("\"member 1: sali: invalid `method.h` = -0.01"), "{sali_csv}");
     for (args, needle) in [
         (&["sali", "kepler.toml", "--table", "members.csv", "--threshold", "2"][..], "invalid --threshold = 2"),

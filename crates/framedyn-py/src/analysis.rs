@@ -193,13 +193,13 @@ pub fn gali<'py>(py: Python<'py>, scene: &PyScene, k: Option<usize>, threshold: 
     Ok(d)
 }
 
-/// SALI and/or MEGNO of every member of the ensemble table `names[k]` →
+/// SALI, MEGNO and/or GALI_k of every member of the ensemble table `names[k]` →
 /// `columns[k]` on `scene` (see `framedyn.chaos_map`), in parallel with
 /// the GIL released: a dict of `(N,)` arrays, one per quantity, with the
 /// members' status codes and messages. Ctrl-C stops the running members
 /// and raises `KeyboardInterrupt`.
 #[pyfunction]
-#[pyo3(signature = (scene, names, columns, sali, megno, threshold, seed, eps, fourth_order, threads, oversubscribe))]
+#[pyo3(signature = (scene, names, columns, sali, megno, gali, threshold, gali_threshold, seed, eps, fourth_order, threads, oversubscribe))]
 #[allow(clippy::too_many_arguments)]
 pub fn chaos_map<'py>(
     py: Python<'py>,
@@ -208,7 +208,9 @@ pub fn chaos_map<'py>(
     columns: Vec<PyReadonlyArray1<'py, f64>>,
     sali: bool,
     megno: bool,
+    gali: Option<usize>,
     threshold: f64,
+    gali_threshold: f64,
     seed: u64,
     eps: Option<f64>,
     fourth_order: bool,
@@ -217,7 +219,7 @@ pub fn chaos_map<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let table = crate::ensemble::table(py, names, &columns)?;
     let linearisation = Linearisation::chosen(fourth_order, eps);
-    let opts = ChaosMapOptions { sali, megno, threshold, seed, linearisation, threads, oversubscribe };
+    let opts = ChaosMapOptions { sali, megno, gali, threshold, gali_threshold, seed, linearisation, threads, oversubscribe };
     let base = scene.inner.clone();
     let m = run_interruptibly(py, move |cancel| Ok(map_core(&base, &table, &opts, cancel)?))?;
     let d = PyDict::new(py);
@@ -229,11 +231,14 @@ pub fn chaos_map<'py>(
         ("megno_mean", m.megno_mean),
         ("megno_slope", m.megno_slope),
         ("lyapunov", m.lyapunov),
+        ("gali_log10", m.gali_log10),
+        ("gali_below_at", m.gali_below_at),
     ] {
         d.set_item(name, PyArray1::from_vec(py, v))?;
     }
     d.set_item("sali_steps", PyArray1::from_vec(py, m.sali_steps))?;
     d.set_item("megno_steps", PyArray1::from_vec(py, m.megno_steps))?;
+    d.set_item("gali_steps", PyArray1::from_vec(py, m.gali_steps))?;
     d.set_item("status", PyArray1::from_vec(py, m.status.iter().map(|s| s.code()).collect()))?;
     let names = [MemberStatus::Finished, MemberStatus::Event, MemberStatus::Cancelled, MemberStatus::Failed, MemberStatus::Invalid];
     d.set_item("status_names", names.iter().map(|s| s.name()).collect::<Vec<_>>())?;

@@ -1,12 +1,13 @@
-//! Chaos-indicator maps over initial conditions: SALI and/or MEGNO (with
-//! the finite-time maximal exponent MEGNO reports) of every member of an
-//! ensemble [`Table`] on one base scene, in parallel, returned as columns.
+//! Chaos-indicator maps over initial conditions: SALI, MEGNO (with the
+//! finite-time maximal exponent MEGNO reports) and/or GALI_k of every member
+//! of an ensemble [`Table`] on one base scene, in parallel, returned as
+//! columns.
 //!
 //! The members are those of [`run_ensemble`](crate::scenes::run_ensemble):
 //! the base scene with row `i` of the table applied (dotted scene fields,
 //! e.g. `initial.position.0`, `body.J.0.1`, `method.h`). Each indicator of
-//! a member is computed exactly as [`Scene::sali`] and [`Scene::megno`]
-//! compute it for that scene alone, with the steps (fixed `method.h` or
+//! a member is computed exactly as [`Scene::sali`], [`Scene::megno`] and
+//! [`Scene::gali`] compute it for that scene alone, with the steps (fixed `method.h` or
 //! error-controlled `method.rtol`/`atol`), span and `method.max_steps` of
 //! the member's own scene, so the columns equal the single calls bit for
 //! bit. A member
@@ -46,6 +47,11 @@ pub struct ChaosMapOptions {
     pub sali: bool,
     /// Compute MEGNO and the finite-time maximal exponent ([`super::megno()`]).
     pub megno: bool,
+    /// Compute GALI_k with this `k` ([`super::gali()`]; `None`: not).
+    pub gali: Option<usize>,
+    /// GALI's threshold, `1e-300 ≤ threshold < 1`: a member's GALI run stops
+    /// when it falls below.
+    pub gali_threshold: f64,
     /// SALI's threshold, `0 < threshold < 1`: a member's SALI run stops when
     /// it falls below.
     pub threshold: f64,
@@ -62,10 +68,10 @@ pub struct ChaosMapOptions {
 }
 
 impl Default for ChaosMapOptions {
-    /// Both indicators, threshold 1e-8, seed 1, the default linearisation,
-    /// one thread per core.
+    /// SALI and MEGNO (no GALI), threshold 1e-8 (GALI's 1e-12), seed 1, the
+    /// default linearisation, one thread per core.
     fn default() -> Self {
-        ChaosMapOptions { sali: true, megno: true, threshold: 1e-8, seed: 1, linearisation: Linearisation::default(), threads: None, oversubscribe: false }
+        ChaosMapOptions { sali: true, megno: true, gali: None, gali_threshold: 1e-12, threshold: 1e-8, seed: 1, linearisation: Linearisation::default(), threads: None, oversubscribe: false }
     }
 }
 
@@ -73,8 +79,16 @@ impl ChaosMapOptions {
     /// Checks the options once for the whole map: an error names the field
     /// and its allowed range.
     pub fn validate(&self) -> Result<(), AnalysisError> {
-        if !(self.sali || self.megno) {
-            return Err(AnalysisError::invalid("indicators", "none", "at least one of sali and megno"));
+        if !(self.sali || self.megno || self.gali.is_some()) {
+            return Err(AnalysisError::invalid("indicators", "none", "at least one of sali, megno and gali"));
+        }
+        if let Some(k) = self.gali {
+            if k < 2 {
+                return Err(AnalysisError::invalid("k", k, "≥ 2 (and at most the state group's dimension)"));
+            }
+            if !(self.gali_threshold >= 1e-300 && self.gali_threshold < 1.0) {
+                return Err(AnalysisError::invalid("gali_threshold", self.gali_threshold, "≥ 1e-300 and < 1"));
+            }
         }
         if !(self.threshold > 0.0 && self.threshold < 1.0) {
             return Err(AnalysisError::invalid("threshold", self.threshold, "between 0 and 1 (exclusive)"));
@@ -112,6 +126,12 @@ pub struct ChaosMap {
     pub lyapunov: Vec<f64>,
     /// Steps of MEGNO's run.
     pub megno_steps: Vec<u64>,
+    /// `log₁₀ GALI_k` at the end of the run ([`GaliEstimate::log10`](super::GaliEstimate::log10)).
+    pub gali_log10: Vec<f64>,
+    /// The time GALI_k fell below its threshold, NaN if it did not.
+    pub gali_below_at: Vec<f64>,
+    /// Steps of GALI's run (it stops at the threshold).
+    pub gali_steps: Vec<u64>,
     /// How each member ended: [`MemberStatus::Finished`],
     /// [`MemberStatus::Invalid`] (its scene cannot be analysed),
     /// [`MemberStatus::Failed`] (an indicator's run failed) or
@@ -139,13 +159,15 @@ struct Row {
     sali_steps: u64,
     megno: [f64; 4],
     megno_steps: u64,
+    gali: [f64; 2],
+    gali_steps: u64,
     status: MemberStatus,
     error: Option<String>,
 }
 
 impl Row {
     fn empty(status: MemberStatus, error: Option<String>) -> Row {
-        Row { sali: [f64::NAN; 3], sali_steps: 0, megno: [f64::NAN; 4], megno_steps: 0, status, error }
+        Row { sali: [f64::NAN; 3], sali_steps: 0, megno: [f64::NAN; 4], megno_steps: 0, gali: [f64::NAN; 2], gali_steps: 0, status, error }
     }
 
     /// Records the failure of indicator `what`; the first failure decides
@@ -214,13 +236,34 @@ fn member(scene: &mut Scene, columns: &[(FieldPath, &[f64])], i: usize, opts: &C
                 row.megno = [e.megno, e.mean, e.slope, e.lyapunov];
                 row.megno_steps = e.steps as u64;
             }
-            Err(e) => row.fail(i, "megno", &e),
+            Err(e) => {
+                let ends = matches!(e, SceneAnalysisError::Scene(_) | SceneAnalysisError::Analysis(AnalysisError::Cancelled { .. }));
+                row.fail(i, "megno", &e);
+                if ends {
+                    return row;
+                }
+            }
+        }
+    }
+    if let Some(k) = opts.gali {
+        let r = scene.gali_options(k).map_err(SceneAnalysisError::from).and_then(|mut o| {
+            o.threshold = opts.gali_threshold;
+            o.seed = opts.seed;
+            o.linearisation = opts.linearisation;
+            scene.gali(&o, cancel)
+        });
+        match r {
+            Ok(e) => {
+                row.gali = [e.log10, e.below_at.unwrap_or(f64::NAN)];
+                row.gali_steps = e.steps as u64;
+            }
+            Err(e) => row.fail(i, "gali", &e),
         }
     }
     row
 }
 
-/// SALI and/or MEGNO of every member of `table` on `base`, in parallel (see
+/// SALI, MEGNO and/or GALI_k of every member of `table` on `base`, in parallel (see
 /// the [module documentation](self)). Fails only for bad options
 /// ([`ChaosMapOptions::validate`]); everything about a member is in its
 /// row of the columns, its status and its message.
@@ -254,6 +297,9 @@ pub fn chaos_map(base: &Scene, table: &Table, opts: &ChaosMapOptions, cancel: &A
         map.megno_slope.push(r.megno[2]);
         map.lyapunov.push(r.megno[3]);
         map.megno_steps.push(r.megno_steps);
+        map.gali_log10.push(r.gali[0]);
+        map.gali_below_at.push(r.gali[1]);
+        map.gali_steps.push(r.gali_steps);
         map.status.push(r.status);
         map.errors.push(r.error);
     }
