@@ -55,7 +55,9 @@ fn chaotic_gali_falls_at_the_sum_of_exponent_gaps() {
     let t = 500.0;
     let fixed = StepSize::Fixed(0.02);
     let adaptive = StepSize::Adaptive(Adaptive::new(1e-10, 1e-10));
-    let cases: [(&str, &dyn Fn(&GaliOptions) -> framedyn::analysis::GaliEstimate, &dyn Fn(&LyapunovOptions) -> framedyn::analysis::LyapunovEstimate, &StepSize); 2] = [
+    type Gali<'a> = &'a dyn Fn(&GaliOptions) -> framedyn::analysis::GaliEstimate;
+    type Lyapunov<'a> = &'a dyn Fn(&LyapunovOptions) -> framedyn::analysis::LyapunovEstimate;
+    let cases: [(&str, Gali, Lyapunov, &StepSize); 2] = [
         ("splitting, h = 0.02", &|o| gali(&sys, &Splitting::blanes_moan_rkn4(), 0.0, &y0, o, None).unwrap(), &|o| lyapunov_spectrum(&sys, &Splitting::blanes_moan_rkn4(), 0.0, &y0, o, None).unwrap(), &fixed),
         ("DOP853, tol 1e-10", &|o| gali(&sys, &Rkmk::dop853(), 0.0, &y0, o, None).unwrap(), &|o| lyapunov_spectrum(&sys, &Rkmk::dop853(), 0.0, &y0, o, None).unwrap(), &adaptive),
     ];
@@ -113,8 +115,8 @@ fn regular_gali_falls_like_a_power_of_t() {
     kepler.time.t_end = 1000.0;
     kepler.method.name = "dop853".into();
     kepler.method.h = None;
-    kepler.method.rtol = Some(1e-10.into());
-    kepler.method.atol = Some(1e-10.into());
+    kepler.method.rtol = Some(1e-10);
+    kepler.method.atol = Some(1e-10);
     for (k, lo, hi) in [(2, -0.3, 0.3), (3, -1.5, -0.5)] {
         let opts = GaliOptions { threshold: 1e-300, ..kepler.gali_options(k).unwrap() };
         let g = kepler.gali(&opts, &AtomicBool::new(false)).unwrap();
@@ -141,8 +143,8 @@ fn regular_central_gali2_levels_off_after_a_transient() {
     central.time.t_end = 10_000.0;
     central.method.name = "dop853".into();
     central.method.h = None;
-    central.method.rtol = Some(1e-11.into());
-    central.method.atol = Some(1e-11.into());
+    central.method.rtol = Some(1e-11);
+    central.method.atol = Some(1e-11);
     let opts = GaliOptions { threshold: 1e-300, ..central.gali_options(2).unwrap() };
     let g = central.gali(&opts, &AtomicBool::new(false)).unwrap();
     let at = |t: f64| g.running_log10[g.times.iter().position(|x| *x >= t).unwrap()];
