@@ -129,7 +129,7 @@ where
     let mut below_at = None;
     let walked = walk(system, method, t0, y0, &opts.step, opts.duration, opts.max_steps, cancel, |s| {
         tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut q, &opts.linearisation)?;
-        let rs = qr_in_place(&mut q, s.t1)?;
+        let rs = super::lyapunov::orthonormalise(&mut q, s.t1)?;
         r = rs * &r;
         log10 = 0.0;
         for j in 0..k {
@@ -158,29 +158,4 @@ where
         steps: walked.steps,
         steps_per_step: 1 + k * opts.linearisation.steps_per_column(),
     })
-}
-
-/// Modified Gram–Schmidt with one re-orthogonalisation pass: `m = Q·R` with
-/// `Q` written over `m` and the upper triangular `R` returned. Fails on a
-/// column that vanishes or is not finite.
-fn qr_in_place(m: &mut DMatrix<f64>, t: f64) -> Result<DMatrix<f64>, AnalysisError> {
-    let k = m.ncols();
-    let mut r = DMatrix::zeros(k, k);
-    for j in 0..k {
-        for _pass in 0..2 {
-            for i in 0..j {
-                let p = m.column(i).dot(&m.column(j));
-                r[(i, j)] += p;
-                let ci = m.column(i).clone_owned();
-                m.column_mut(j).axpy(-p, &ci, 1.0);
-            }
-        }
-        let n = m.column(j).norm();
-        if !(n.is_finite() && n > 0.0) {
-            return Err(AnalysisError::Degenerate { column: j, t, norm: n });
-        }
-        m.column_mut(j).unscale_mut(n);
-        r[(j, j)] = n;
-    }
-    Ok(r)
 }

@@ -156,15 +156,18 @@ pub(crate) fn random_frame(rows: usize, k: usize, seed: u64) -> DMatrix<f64> {
     m
 }
 
-/// Modified Gram–Schmidt with one re-orthogonalisation pass, in place; the
-/// norms `|R_ii|`. Fails on a column that vanishes or is not finite.
-fn orthonormalise(m: &mut DMatrix<f64>, t: f64) -> Result<Vec<f64>, AnalysisError> {
+/// Modified Gram–Schmidt with one re-orthogonalisation pass: `m = Q·R` with
+/// `Q` written over `m` and the upper triangular `R` returned (its diagonal:
+/// the norms `|R_ii|` of Benettin's method). Fails at time `t` on a column
+/// that vanishes or is not finite.
+pub(crate) fn orthonormalise(m: &mut DMatrix<f64>, t: f64) -> Result<DMatrix<f64>, AnalysisError> {
     let k = m.ncols();
-    let mut r = Vec::with_capacity(k);
+    let mut r = DMatrix::zeros(k, k);
     for j in 0..k {
         for _pass in 0..2 {
             for i in 0..j {
                 let p = m.column(i).dot(&m.column(j));
+                r[(i, j)] += p;
                 let ci = m.column(i).clone_owned();
                 m.column_mut(j).axpy(-p, &ci, 1.0);
             }
@@ -174,7 +177,7 @@ fn orthonormalise(m: &mut DMatrix<f64>, t: f64) -> Result<Vec<f64>, AnalysisErro
             return Err(AnalysisError::Degenerate { column: j, t, norm: n });
         }
         m.column_mut(j).unscale_mut(n);
-        r.push(n);
+        r[(j, j)] = n;
     }
     Ok(r)
 }
@@ -280,7 +283,7 @@ where
     let walked = walk(system, method, t0, y0, &opts.step, opts.duration, opts.max_steps, cancel, |s| {
         tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut cols, &opts.linearisation)?;
         if s.index % opts.renormalise_every == 0 || s.last {
-            let r = orthonormalise(&mut cols, s.t1)?;
+            let r = orthonormalise(&mut cols, s.t1)?.diagonal();
             match &mut acc {
                 Some(a) => a.add(s.t1, r.iter().map(|x| x.ln()), s.last),
                 None if s.t1 >= t_avg - 0.5 * s.h => acc = Some(Accumulator::new(opts.exponents, s.t1, stride)),
