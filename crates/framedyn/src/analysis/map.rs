@@ -171,12 +171,15 @@ impl Row {
     }
 
     /// Records the failure of indicator `what`; the first failure decides
-    /// the status and the message.
-    fn fail(&mut self, i: usize, what: &str, e: &SceneAnalysisError) {
+    /// the status and the message. True if it ends the member: an invalid
+    /// scene or a cancellation (a failed run does not keep the next
+    /// indicator from running).
+    fn fail(&mut self, i: usize, what: &str, e: &SceneAnalysisError) -> bool {
         if self.error.is_none() {
             self.status = classify(e);
             self.error = Some(format!("member {i}: {what}: {e}"));
         }
+        matches!(e, SceneAnalysisError::Scene(_) | SceneAnalysisError::Analysis(AnalysisError::Cancelled { .. }))
     }
 }
 
@@ -214,12 +217,8 @@ fn member(scene: &mut Scene, columns: &[(FieldPath, &[f64])], i: usize, opts: &C
                 row.sali = [e.sali, e.min, e.chaotic_at.unwrap_or(f64::NAN)];
                 row.sali_steps = e.steps as u64;
             }
-            // An invalid scene or a cancellation ends the member; a failed
-            // SALI run does not keep MEGNO from running.
             Err(e) => {
-                let ends = matches!(e, SceneAnalysisError::Scene(_) | SceneAnalysisError::Analysis(AnalysisError::Cancelled { .. }));
-                row.fail(i, "sali", &e);
-                if ends {
+                if row.fail(i, "sali", &e) {
                     return row;
                 }
             }
@@ -237,9 +236,7 @@ fn member(scene: &mut Scene, columns: &[(FieldPath, &[f64])], i: usize, opts: &C
                 row.megno_steps = e.steps as u64;
             }
             Err(e) => {
-                let ends = matches!(e, SceneAnalysisError::Scene(_) | SceneAnalysisError::Analysis(AnalysisError::Cancelled { .. }));
-                row.fail(i, "megno", &e);
-                if ends {
+                if row.fail(i, "megno", &e) {
                     return row;
                 }
             }
@@ -257,7 +254,9 @@ fn member(scene: &mut Scene, columns: &[(FieldPath, &[f64])], i: usize, opts: &C
                 row.gali = [e.log10, e.below_at.unwrap_or(f64::NAN)];
                 row.gali_steps = e.steps as u64;
             }
-            Err(e) => row.fail(i, "gali", &e),
+            Err(e) => {
+                row.fail(i, "gali", &e);
+            }
         }
     }
     row
