@@ -188,6 +188,16 @@ def _real(value: Any, name: str) -> float:
     return v
 
 
+def _count_or_all(value: Union[int, str], name: str, lo: int, allowed: str) -> Optional[int]:
+    """A count option that also takes ``"all"`` (``None``): an int in
+    ``[lo, 10 000]`` (the analysis checks it against the state's dimension)."""
+    if isinstance(value, str):
+        if value != "all":
+            raise InvalidInputError(f"invalid `{name}` = {value!r}: must be {allowed} or 'all'")
+        return None
+    return check_int(value, name, lo, 10_000)
+
+
 def lyapunov(
     scene: Union[Scene, Mapping[str, Any]],
     *,
@@ -222,12 +232,7 @@ def lyapunov(
     argument of the wrong type, :class:`IntegrationError` when a step fails;
     Ctrl-C raises ``KeyboardInterrupt``."""
     s = _scene(scene)
-    if isinstance(exponents, str):
-        if exponents != "all":
-            raise InvalidInputError(f"invalid `exponents` = {exponents!r}: must be a positive int or 'all'")
-        k: Optional[int] = None
-    else:
-        k = check_int(exponents, "exponents", 1, 10_000)
+    k = _count_or_all(exponents, "exponents", 1, "a positive int")
     _bools(fourth_order=fourth_order, two_trajectory=two_trajectory)
     raw = _framedyn.lyapunov(
         s._native,
@@ -384,12 +389,7 @@ def gali(
     wrong type, :class:`IntegrationError` when a step fails; Ctrl-C raises
     ``KeyboardInterrupt``."""
     s = _scene(scene)
-    if isinstance(k, str):
-        if k != "all":
-            raise InvalidInputError(f"invalid `k` = {k!r}: must be an int ≥ 2 or 'all'")
-        kk: Optional[int] = None
-    else:
-        kk = check_int(k, "k", 2, 10_000)
+    kk = _count_or_all(k, "k", 2, "an int ≥ 2")
     _bools(fourth_order=fourth_order)
     raw = _framedyn.gali(s._native, kk, _real(threshold, "threshold"), check_int(seed, "seed", 0, _U64_MAX), None if eps is None else _real(eps, "eps"), fourth_order)
     return GaliResult(**raw)

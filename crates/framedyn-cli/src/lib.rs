@@ -295,6 +295,15 @@ enum FormatArg {
     Npz,
 }
 
+/// A count option that also takes `all` (`None`): `--exponents`, `-k`.
+/// The range is checked by the analysis, which knows the state's dimension.
+fn count_or_all(text: &str, option: &str, allowed: &str) -> Result<Option<usize>, (u8, String)> {
+    match text {
+        "all" => Ok(None),
+        k => k.parse::<usize>().map(Some).map_err(|_| (2, format!("invalid {option} = {k:?}: must be {allowed} or `all`"))),
+    }
+}
+
 /// Reads a scene from a file, or an embedded one by name.
 fn load(scene: &str) -> Result<(Scene, String), (u8, String)> {
     let path = std::path::Path::new(scene);
@@ -390,10 +399,7 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
         }
         Command::Lyapunov { scene, exponents, every, transient, batches, tangent, two_trajectory, output } => {
             let (s, origin) = load(&scene)?;
-            let exponents = match exponents.as_str() {
-                "all" => None,
-                k => Some(k.parse::<usize>().map_err(|_| (2, format!("invalid --exponents = {k:?}: must be a positive integer or `all`")))?),
-            };
+            let exponents = count_or_all(&exponents, "--exponents", "a positive integer")?;
             let args = analysis::LyapunovArgs { exponents, every, transient, batches, tangent, two_trajectory, output };
             analysis::lyapunov(&s, &origin, &args)
         }
@@ -403,10 +409,7 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
         }
         Command::Gali { scene, k, threshold, tangent, map, output } => {
             let (s, origin) = load(&scene)?;
-            let k = match k.as_str() {
-                "all" => None,
-                k => Some(k.parse::<usize>().map_err(|_| (2, format!("invalid -k = {k:?}: must be an integer ≥ 2 or `all`")))?),
-            };
+            let k = count_or_all(&k, "-k", "an integer ≥ 2")?;
             analysis::gali(&s, &origin, &analysis::GaliArgs { k, threshold, tangent, map, output })
         }
         Command::Megno { scene, tangent, map, output } => {
