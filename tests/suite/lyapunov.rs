@@ -440,9 +440,9 @@ fn adaptive_tangent_flow_error_is_proportional_to_tol() {
 /// own two-trajectory estimate (the companion taking the trajectory's
 /// steps) and with the fixed-step splitting's, each within 3 combined
 /// standard errors. Measured at T = 2000: 0.1524 ± 0.011 in 9 923 steps
-/// against the splitting's 0.1578 ± 0.013 in 100 000 steps of h = 0.02
-/// (at T = 400 the two finite-time estimates were 0.125 and 0.192, 2
-/// standard errors apart: T = 2000 is where they have converged).
+/// against the splitting's 0.1578 ± 0.013 in 100 000 steps of h = 0.02.
+/// T = 2000 because at T = 400 the two finite-time estimates (0.125 and
+/// 0.192) are still 2 standard errors apart.
 #[test]
 fn adaptive_chaotic_exponent_agrees_with_fixed_steps_and_two_trajectories() {
     let (sys, y0) = tilted(0.8, 0.6, [1.2, 0.3], [0.9, 0.7], 0.4, 0.6);
