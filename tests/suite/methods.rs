@@ -7,6 +7,7 @@
 mod adaptive;
 mod ensemble;
 mod gali;
+mod gauge;
 mod integrators;
 mod lyapunov;
 mod megno;

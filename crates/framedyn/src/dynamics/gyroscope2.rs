@@ -406,6 +406,13 @@ where
             finite_defect([y.0 .1.cos(), y.0 .1.sin()].iter()),
         ])
     }
+
+    /// `q ↦ qk`, `ρ ↦ kᵀρ`, `u ↦ kᵀu`, the spin unchanged: with `w = ε`,
+    /// `(vertical(g, ε), −1, −ε·u, 0)`.
+    fn gauge(&self, y: &Self::State) -> Vec<<Self::State as LieGroup>::Algebra> {
+        let u = -(EPS * Vector2::new(y.1 .0[0], y.1 .0[1]));
+        vec![ProductAlgebra(ProductAlgebra(self.bundle.vertical(&y.0 .0, &EPS), Vector1::new(-1.0)), Vector3::new(u[0], u[1], 0.0))]
+    }
 }
 
 

@@ -442,6 +442,21 @@ where
             finite_defect(y.1 .0.iter()),
         ])
     }
+
+    /// `q ↦ qk`, `ρ ↦ kᵀρ`, `u ↦ kᵀu`, `π ↦ kᵀπ` (an axial vector of the
+    /// parallel frame): `(vertical(g, w), −ρᵀ·vee(w), −w·u, −w·π)`.
+    fn gauge(&self, y: &Self::State) -> Vec<<Self::State as LieGroup>::Algebra> {
+        let rho = y.0 .1.matrix();
+        let (u, pi) = (y.1 .0.fixed_rows::<3>(0).into_owned(), y.1 .0.fixed_rows::<3>(3).into_owned());
+        crate::dynamics::skew_basis::<3>()
+            .iter()
+            .map(|w| {
+                let (du, dpi) = (-(w * u), -(w * pi));
+                let rates = Vector6::new(du[0], du[1], du[2], dpi[0], dpi[1], dpi[2]);
+                ProductAlgebra(ProductAlgebra(self.bundle.vertical(&y.0 .0, w), -(rho.transpose() * So3::vee(w))), rates)
+            })
+            .collect()
+    }
 }
 
 #[inline]

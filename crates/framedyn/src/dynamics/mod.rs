@@ -31,6 +31,43 @@ pub trait System: Send + Sync {
     /// Distance of `y` from the state manifold (group constraints, frames
     /// orthonormal, …); 0 up to round-off along an exact solution.
     fn defect(&self, y: &Self::State) -> f64;
+
+    /// The gauge directions at `y`: left-trivialised velocities along which
+    /// the stored state changes and the physical one does not. The models on
+    /// a frame bundle carry the parallel frame `q`, which a point does not
+    /// have and a body has only through `e = q·ρ`: turning `q` in place,
+    /// `q ↦ q·k` (`k ∈ SO(N)`), with the components stored in it turned back
+    /// (`u ↦ kᵀu`, `ρ ↦ kᵀρ`, a spin or hypermomentum `P ↦ kᵀPk`) leaves the
+    /// position, velocity, body frame and internal motion unchanged. One
+    /// direction per basis element `w` of so(N) ([`skew_basis`]), in its
+    /// order: `d/dτ y·exp(τ·ξ_w)` is that rotation with `k = exp(τw)`.
+    ///
+    /// The equations are equivariant under these rotations, so a step's
+    /// tangent map takes gauge directions to gauge directions, and deviation
+    /// vectors taken modulo them are those of the physical phase space
+    /// (GALI's [`quotient`](crate::analysis::GaliOptions::quotient)).
+    /// Empty (the default) when the stored state has no such redundancy: a
+    /// system on a bare group, or a body whose frame is the parallel frame up
+    /// to scale (pure dilatation).
+    fn gauge(&self, _y: &Self::State) -> Vec<<Self::State as LieGroup>::Algebra> {
+        Vec::new()
+    }
+}
+
+/// A basis of so(N): for `i < j` (in the order (0,1), (0,2), …, (1,2), …)
+/// the matrix `w` with `w_ji = 1`, `w_ij = −1` (for N = 2 the single
+/// `ε = [[0, −1], [1, 0]]`, the rotation by +90°).
+pub fn skew_basis<const N: usize>() -> Vec<SMatrix<f64, N, N>> {
+    let mut out = Vec::with_capacity(N * N.saturating_sub(1) / 2);
+    for i in 0..N {
+        for j in i + 1..N {
+            let mut w = SMatrix::<f64, N, N>::zeros();
+            w[(j, i)] = 1.0;
+            w[(i, j)] = -1.0;
+            out.push(w);
+        }
+    }
+    out
 }
 
 /// `−qᵀ·∂_x V`: the position part of the horizontal force, `−q_a·∂_x V` for

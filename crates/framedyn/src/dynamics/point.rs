@@ -209,6 +209,11 @@ where
             finite_defect(y.1 .0.iter()),
         ])
     }
+
+    /// `q ↦ qk`, `u ↦ kᵀu`: `(vertical(g, w), −w·u)`.
+    fn gauge(&self, y: &Self::State) -> Vec<<Self::State as LieGroup>::Algebra> {
+        crate::dynamics::skew_basis::<N>().iter().map(|w| ProductAlgebra(self.bundle.vertical(&y.0, w), -(w * y.1 .0))).collect()
+    }
 }
 
 /// `0` if every value is finite, else `NaN`.

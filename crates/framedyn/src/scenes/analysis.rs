@@ -17,6 +17,8 @@ use crate::solve::{SolveError, StepSize};
 /// The object-safe face of a typed model for the analyses.
 pub(crate) trait DynAnalysis: Send {
     fn dof(&self) -> usize;
+    /// The number of gauge directions at the initial state ([`System::gauge`](crate::dynamics::System::gauge)).
+    fn gauge_directions(&self) -> usize;
     fn supports(&self, needs: Needs) -> bool;
     fn lyapunov(&self, method: &AnyMethod, t0: f64, opts: &LyapunovOptions, cancel: &AtomicBool) -> Result<LyapunovEstimate, AnalysisError>;
     fn two_trajectory(&self, method: &AnyMethod, t0: f64, opts: &TwoTrajectoryOptions, cancel: &AtomicBool) -> Result<TwoTrajectoryEstimate, AnalysisError>;
@@ -33,6 +35,9 @@ struct Typed<S: Observe> {
 impl<S: Observe> DynAnalysis for Typed<S> {
     fn dof(&self) -> usize {
         S::State::DOF
+    }
+    fn gauge_directions(&self) -> usize {
+        crate::dynamics::System::gauge(&self.system, &self.y0).len()
     }
     fn supports(&self, needs: Needs) -> bool {
         match needs {
@@ -120,6 +125,16 @@ impl Scene {
     /// exponents of its full spectrum.
     pub fn state_dimension(&self) -> Result<usize, SceneError> {
         Ok(self.prepare_analysis()?.model.dof())
+    }
+
+    /// The dimension of the scene's phase space: the state group's less
+    /// the gauge directions of its parallel frame
+    /// ([`System::gauge`](crate::dynamics::System::gauge)), in which
+    /// [`gali`](Self::gali) measures by default
+    /// ([`GaliOptions::quotient`]).
+    pub fn phase_space_dimension(&self) -> Result<usize, SceneError> {
+        let p = self.prepare_analysis()?;
+        Ok(p.model.dof() - p.model.gauge_directions())
     }
 
     /// [`LyapunovOptions`] with the scene's steps (fixed or error-controlled),

@@ -157,6 +157,10 @@ impl<const N: usize> InternalConstraint<N> for Isochoric {
     fn velocity_defect(&self, omega: &Mat<N>) -> f64 {
         (omega.trace() / N as f64).abs()
     }
+    /// `ρ⁻¹(−w)ρ`: traceless, so in sl(N).
+    fn frame_gauge(&self, f: &Sl<N>, w: &Mat<N>) -> Option<Mat<N>> {
+        inverse(f.matrix()).map(|inv| -(inv * w * f.matrix()))
+    }
 }
 
 /// The incompressible affine body of §4: `ρ ∈ SL(N)`, `N + N² − 1` degrees of
@@ -255,6 +259,11 @@ impl<const N: usize> InternalConstraint<N> for Conformal {
     }
     fn velocity_defect(&self, omega: &Mat<N>) -> f64 {
         (omega - co_part(omega)).amax()
+    }
+    /// `ρ⁻¹(−w)ρ = −Rᵀ w R` for `ρ = λR`: skew, so in co(N).
+    fn frame_gauge(&self, f: &Co<N>, w: &Mat<N>) -> Option<Mat<N>> {
+        let r = f.rotation().matrix();
+        Some(-(r.transpose() * w * *r))
     }
 }
 
@@ -373,6 +382,9 @@ impl<const N: usize> InternalConstraint<N> for PureDilatation<N> {
             d[(i, i)] -= t;
         }
         d.amax()
+    }
+    fn frame_gauge(&self, _f: &Rn<1>, _w: &Mat<N>) -> Option<SVector<f64, 1>> {
+        None
     }
 }
 

@@ -77,6 +77,13 @@ pub trait InternalConstraint<const N: usize>: Clone + Debug + Send + Sync + 'sta
     /// Largest entry of the component of `Ω̂ = ρ⁻¹ρ̇` outside the fibre's
     /// algebra (0 for an admissible velocity).
     fn velocity_defect(&self, omega: &Mat<N>) -> f64;
+    /// The fibre part of a gauge direction ([`System::gauge`](crate::dynamics::System::gauge)):
+    /// the left-trivialised velocity `ρ⁻¹(−w)ρ` of `ρ ↦ kᵀρ`, `k = exp(τw)`,
+    /// `w` skew, when the fibre is closed under rotations from the left
+    /// (GL⁺, SL, CO⁺); `None` when it is not (pure dilatation: the body
+    /// frame is the parallel frame up to scale, so turning `q` turns the
+    /// body and there is no gauge freedom).
+    fn frame_gauge(&self, f: &Self::Fibre, w: &Mat<N>) -> Option<<Self::Fibre as LieGroup>::Algebra>;
 }
 
 /// The free affine body: `ρ ∈ GL⁺(N)` ([`Gl`]), momentum `K ∈ gl(N)`,
@@ -125,5 +132,8 @@ impl<const N: usize> InternalConstraint<N> for Unconstrained {
     }
     fn velocity_defect(&self, _omega: &Mat<N>) -> f64 {
         0.0
+    }
+    fn frame_gauge(&self, f: &Gl<N>, w: &Mat<N>) -> Option<Mat<N>> {
+        inverse(f.matrix()).map(|inv| -(inv * w * f.matrix()))
     }
 }

@@ -393,6 +393,23 @@ where
             parts.iter().fold(0.0, |a, &b| a.max(b))
         }
     }
+
+    /// `q ↦ qk`, `ρ ↦ kᵀρ`, `u ↦ kᵀu`, `P(K) ↦ kᵀP(K)k` (`K = ρJρ̇ᵀ` has
+    /// parallel-frame components); none for a fibre that is not closed
+    /// under rotations ([`InternalConstraint::frame_gauge`]).
+    fn gauge(&self, y: &Self::State) -> Vec<BodyVelocity<B, C, N, E>> {
+        let p = self.constraint.momentum_matrix(&y.1 .1);
+        let mut out = Vec::new();
+        for w in crate::dynamics::skew_basis::<N>() {
+            let Some(fibre) = self.constraint.frame_gauge(&y.0 .1, &w) else {
+                return Vec::new();
+            };
+            let g = self.bundle.vertical(&y.0 .0, &w);
+            let u = -(w * y.1 .0 .0);
+            out.push(ProductAlgebra(ProductAlgebra(g, fibre), ProductAlgebra(u, self.constraint.project(&(p * w - w * p)))));
+        }
+        out
+    }
 }
 
 /// Affine bodies have no exact free flow on a curved manifold: the
