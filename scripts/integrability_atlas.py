@@ -38,20 +38,26 @@ and both difference formulas (until 145caef SALI stopped at a floor
 proportional to 1/ε there; --floor-scenes DIR writes these orbits as scene
 files for `framedyn sali`). The sections: fd.section of the plane x₁ = 0
 for several orbits at equal energy of the point on S² (Kepler, oscillator,
-V = r²/2) and of the gyroscope (separable, tilted).
+V = r²/2) and of the gyroscope (separable, tilted). The degeneracy table:
+GALI₂ and GALI₃ of central-potential orbits in the phase space (modulo the
+parallel frame's gauge direction) and on the stored state, whose log–log
+slopes tell one drifting direction (a Bertrand orbit: GALI₂ ~ 1/t) from
+two (a torus: GALI₂ stays).
 
 Writes docs/data/integrability_atlas.csv, integrability_cost.csv,
 integrability_map_s2_affine.csv, integrability_map_s2_gyroscope.csv,
 integrability_map_s3_gyroscope.csv, integrability_maps.csv, integrability_sali_floor.csv,
 integrability_sections.csv, integrability_params_s2_affine.csv,
 integrability_params_s2_gyroscope.csv, integrability_params_summary.csv,
-integrability_params_long.csv and docs/figures/integrability_*.png, and prints
+integrability_params_long.csv, integrability_degeneracy.csv and
+docs/figures/integrability_*.png, and prints
 the tables as Markdown (docs/integrability.md quotes them). Run:
     .venv/bin/python scripts/integrability_atlas.py               # all
     .venv/bin/python scripts/integrability_atlas.py --maps-only   # maps, sections, floor
     .venv/bin/python scripts/integrability_atlas.py --grids-only  # the SALI/MEGNO maps only
     .venv/bin/python scripts/integrability_atlas.py --table-only  # table and cost
     .venv/bin/python scripts/integrability_atlas.py --params-only # the maps over parameters only
+    .venv/bin/python scripts/integrability_atlas.py --degeneracy-only  # GALI of the central orbits: maximal degeneracy
     .venv/bin/python scripts/integrability_atlas.py --quick       # small grids, into out/integrability_quick/
     .venv/bin/python scripts/integrability_atlas.py --floor-only  # the SALI floor check only
     .venv/bin/python scripts/integrability_atlas.py --floor-scenes DIR  # its orbits as scenes (JSON)
@@ -1089,6 +1095,60 @@ def print_maps(summary, drift, floor, sec_rows, kepler):
         )
 
 
+# (case, paper's claim, scene name, changes) for the degeneracy table.
+DEGENERACY_CASES = [
+    ("S² point, Kepler (Bertrand)", "maximally degenerate (§5)", "s2-point-kepler", {}),
+    ("S² point, oscillator (Bertrand)", "maximally degenerate (§5)", "s2-point-oscillator", {}),
+    ("H² point, Kepler (Bertrand)", "maximally degenerate (§5)", "h2-point-kepler", {}),
+    ("S² point, Kepler + 0.2 cos r (non-Bertrand)", "integrable (central), orbits not closed", "s2-point-sum", {}),
+    ("S² point, V = r²/2 (non-Bertrand)", "integrable (central), orbits not closed", "s2-point-central", {}),
+]
+
+
+def window_slope(g, lo, hi):
+    """Log–log slope of GALI over [lo, hi] from its means over [lo/2, lo]
+    and [hi/2, hi] (the index swings within each period)."""
+
+    def mean(a, b):
+        m = (g.times >= a) & (g.times <= b)
+        return float(np.mean(g.running_log10[m]))
+
+    return (mean(hi / 2, hi) - mean(lo / 2, lo)) / math.log10(hi / lo)
+
+
+def degeneracy(quick, data):
+    """GALI₂ and GALI₃ of the central-potential orbits, in the phase space
+    (the default: modulo the parallel frame's gauge direction) and on the
+    stored state, with DOP853 at tol 1e-10: log–log slopes over the decades
+    t = 100 … 1000 and 1000 … 10⁴ (window means). One drifting direction
+    (a Bertrand orbit: closed) gives GALI₂ ~ 1/t, two (a torus) keep it."""
+    t_end = 2000.0 if quick else 10_000.0
+    rows = []
+    for case, claim, name, changes in DEGENERACY_CASES:
+        sc = scene(name, t_end, **{"method.name": "dop853", "method.h": None, "method.rtol": 1e-10, "method.atol": 1e-10, **changes})
+        row = {"case": case, "paper": claim, "T": t_end}
+        for k, quotient in ((2, True), (3, True), (2, False)):
+            g = fd.gali(sc, k=k, threshold=1e-300, quotient=quotient)
+            key = f"gali{k}_{'phase' if quotient else 'stored'}"
+            row[f"{key}_slope_100_1000"] = window_slope(g, 100.0, 1000.0)
+            row[f"{key}_slope_1000_T"] = window_slope(g, 1000.0, t_end)
+            row[f"{key}_log10_T"] = g.log10
+            row["steps"] = g.steps
+        rows.append(row)
+    write(os.path.join(data, "integrability_degeneracy.csv"), rows)
+    print(f"\nGALI in the phase space and on the stored state (DOP853, tol 1e-10, T = {t_end:g}); log–log slopes from window means:\n")
+    print("| case | the paper | GALI₂ phase space: slope 10²…10³ / 10³…T, value at T | GALI₃ phase space: slope 10²…10³ / 10³…T | GALI₂ stored state: slope 10²…10³ / 10³…T | GALI₂ in the phase space says |")
+    print("|---|---|---|---|---|---|")
+    for r in rows:
+        s2 = r["gali2_phase_slope_100_1000"], r["gali2_phase_slope_1000_T"]
+        verdict = "one drifting direction up to T" if max(s2) < -0.8 else ("two drifting directions (a torus)" if abs(s2[1]) < 0.25 else "undecided")
+        print(
+            f"| {r['case']} | {r['paper']} | {s2[0]:.2f} / {s2[1]:.2f}, 10^{r['gali2_phase_log10_T']:.2f} | {r['gali3_phase_slope_100_1000']:.2f} / {r['gali3_phase_slope_1000_T']:.2f} | "
+            f"{r['gali2_stored_slope_100_1000']:.2f} / {r['gali2_stored_slope_1000_T']:.2f} | {verdict} |"
+        )
+    return rows
+
+
 def run_params(quick, data, figures):
     summary = param_maps(quick, data, figures)
     print_params(summary, param_drift(quick), compare_with_initial_maps(quick))
@@ -1105,6 +1165,7 @@ def main():
     ap.add_argument("--floor-only", action="store_true", help="the SALI floor check only")
     ap.add_argument("--grids-only", action="store_true", help="the SALI/MEGNO maps over initial conditions only (not the floor check and sections)")
     ap.add_argument("--params-only", action="store_true", help="the maps over parameters only (the affine body's J anisotropy, the gyroscope's tilt)")
+    ap.add_argument("--degeneracy-only", action="store_true", help="the GALI table of maximal degeneracy only (central potentials, phase space against stored state)")
     ap.add_argument("--floor-scenes", metavar="DIR", help="write the floor check's orbits as scene files (JSON) into DIR and stop")
     ap.add_argument("--workers", type=int, default=2, help="worker processes for the sections (1 or 2); the maps run on the Rust threads of fd.chaos_map")
     args = ap.parse_args()
@@ -1126,6 +1187,10 @@ def main():
         print_floor(floor)
         print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
         return
+    if args.degeneracy_only:
+        degeneracy(args.quick, data)
+        print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
+        return
     if args.params_only:
         run_params(args.quick, data, figures)
         print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
@@ -1139,6 +1204,8 @@ def main():
         return
     if not args.maps_only:
         table(data)
+    if not args.maps_only:
+        degeneracy(args.quick, data)
     if not args.table_only:
         summary = maps(args.quick, data, figures)
         write(os.path.join(data, "integrability_maps.csv"), summary)

@@ -343,7 +343,9 @@ class GaliResult:
     there) or ``None``; ``times``, ``running_log10``: ``log₁₀ GALI_k`` along
     the run (every step, thinned to at most 10 000 and the last); ``k``:
     the number of deviation vectors; ``steps``: steps taken;
-    ``steps_per_step``: steps of the method per step."""
+    ``steps_per_step``: steps of the method per step; ``dimension``: the
+    dimension of the space the vectors live in (the phase space's with
+    ``quotient=True``, the state group's without)."""
 
     gali: float
     log10: float
@@ -353,6 +355,7 @@ class GaliResult:
     k: int
     steps: int
     steps_per_step: int
+    dimension: int
 
 
 def gali(
@@ -363,6 +366,7 @@ def gali(
     seed: int = 1,
     eps: Optional[float] = None,
     fourth_order: bool = False,
+    quotient: bool = True,
 ) -> GaliResult:
     """The Generalised Alignment Index ``GALI_k`` (Skokos, Bountis &
     Antonopoulos 2007) of ``scene``'s trajectory: the volume spanned by ``k``
@@ -377,12 +381,24 @@ def gali(
     The vectors are carried as an orthonormal frame and a small triangular
     matrix, so the index has no floor and is accumulated as a logarithm.
 
-    ``k``: 2 … the state group's dimension, or ``"all"``; ``threshold``: the
+    ``quotient`` (default ``True``): the index of the physical phase space —
+    the deviation vectors are taken modulo the gauge directions of the
+    parallel frame the state carries (turning it in place, with the
+    components stored in it turned back, changes nothing physical; its
+    holonomy angle drifts like an angle of the torus). ``False`` gives the
+    index of the stored state. On a Bertrand orbit, the paper's maximally
+    degenerate case, ``GALI_2`` falls like ``1/t`` in the phase space and
+    stays on a non-degenerate regular orbit; on the stored state it stays
+    on both.
+
+    ``k``: 2 … the phase space's dimension (with ``quotient=False`` the
+    state group's), or ``"all"``; ``threshold``: the
     run stops when the index falls below it (1e-300 ≤ threshold < 1; that
     means chaos only for small ``k``: compare ``running_log10`` with a power
     law);
-    ``seed``, ``eps``, ``fourth_order``: as for :func:`lyapunov` (the
-    initial vectors are the first ``k`` of its frame).
+    ``seed``, ``eps``, ``fourth_order``: as for :func:`lyapunov` (with
+    ``quotient=False`` the initial vectors are the first ``k`` of its frame;
+    with it, their parts outside the gauge directions, orthonormalised).
 
     Raises :class:`InvalidInputError` (a ``ValueError``) for a bad option or
     a scene with a coordinate method, ``TypeError`` for an argument of the
@@ -390,8 +406,8 @@ def gali(
     ``KeyboardInterrupt``."""
     s = _scene(scene)
     kk = _count_or_all(k, "k", 2, "an int ≥ 2")
-    _bools(fourth_order=fourth_order)
-    raw = _framedyn.gali(s._native, kk, _real(threshold, "threshold"), check_int(seed, "seed", 0, _U64_MAX), None if eps is None else _real(eps, "eps"), fourth_order)
+    _bools(fourth_order=fourth_order, quotient=quotient)
+    raw = _framedyn.gali(s._native, kk, _real(threshold, "threshold"), check_int(seed, "seed", 0, _U64_MAX), None if eps is None else _real(eps, "eps"), fourth_order, quotient)
     return GaliResult(**raw)
 
 
@@ -427,6 +443,7 @@ def chaos_map(
     gali: Optional[int] = None,
     threshold: float = 1e-8,
     gali_threshold: float = 1e-12,
+    gali_quotient: bool = True,
     seed: int = 1,
     eps: Optional[float] = None,
     fourth_order: bool = False,
@@ -445,8 +462,8 @@ def chaos_map(
     to 1-D arrays of equal length N, or a pandas / polars DataFrame. Each
     member is the scene with its row applied, and its values are exactly
     (bit for bit) those of :func:`sali`, :func:`megno` and :func:`gali` on
-    that scene alone with the same ``threshold`` (``gali_threshold``),
-    ``seed``, ``eps`` and
+    that scene alone with the same ``threshold`` (``gali_threshold``,
+    ``gali_quotient`` as its ``quotient``), ``seed``, ``eps`` and
     ``fourth_order``: its method, steps (fixed ``method.h`` or
     ``rtol``/``atol``) and time span.
     ``sali``, ``megno``, ``gali`` (its ``k``, or ``None``): which indicators
@@ -461,7 +478,7 @@ def chaos_map(
     argument of the wrong type; Ctrl-C stops the running members and raises
     ``KeyboardInterrupt``."""
     s = _scene(scene)
-    _bools(sali=sali, megno=megno, fourth_order=fourth_order, oversubscribe=oversubscribe)
+    _bools(sali=sali, megno=megno, fourth_order=fourth_order, oversubscribe=oversubscribe, gali_quotient=gali_quotient)
     names, cols = table_columns(table)
     raw = _framedyn.chaos_map(
         s._native,
@@ -472,6 +489,7 @@ def chaos_map(
         check_int(gali, "gali", 2, 10_000, optional=True),
         _real(threshold, "threshold"),
         _real(gali_threshold, "gali_threshold"),
+        gali_quotient,
         check_int(seed, "seed", 0, _U64_MAX),
         None if eps is None else _real(eps, "eps"),
         fourth_order,

@@ -144,8 +144,8 @@ def section(scene: Scene, spec_json: str) -> Dict[str, Any]:
 def sali(scene: Scene, threshold: float, seed: int, eps: Optional[float] = None, fourth_order: bool = False) -> Tuple[float, Optional[float], float, int]:
     """Smaller Alignment Index: ``(sali, chaotic_at, min, steps)``."""
 
-def gali(scene: Scene, k: Optional[int], threshold: float, seed: int, eps: Optional[float], fourth_order: bool) -> Dict[str, Any]:
-    """GALI_k: ``{"k", "gali", "log10", "below_at", "times", "running_log10", "steps", "steps_per_step"}``."""
+def gali(scene: Scene, k: Optional[int], threshold: float, seed: int, eps: Optional[float], fourth_order: bool, quotient: bool) -> Dict[str, Any]:
+    """GALI_k: ``{"k", "gali", "log10", "below_at", "times", "running_log10", "steps", "steps_per_step", "dimension"}``."""
     ...
 
 def megno(scene: Scene, seed: int, eps: Optional[float], fourth_order: bool) -> Dict[str, Any]:
@@ -160,6 +160,7 @@ def chaos_map(
     gali: Optional[int],
     threshold: float,
     gali_threshold: float,
+    gali_quotient: bool,
     seed: int,
     eps: Optional[float],
     fourth_order: bool,

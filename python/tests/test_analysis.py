@@ -213,6 +213,7 @@ def test_chaos_map_equals_single_calls_bit_for_bit():
         assert m.errors[i] is None
     # GALI_3 in the same map: each member's single call, bit for bit.
     g = fd.chaos_map(base, table, sali=False, megno=False, gali=3, gali_threshold=1e-6, seed=7)
+    stored = fd.chaos_map(base, table, sali=False, megno=False, gali=3, gali_threshold=1e-6, seed=7, gali_quotient=False)
     # The radial fall (member 3): GALI_3 falls below 1e-6 before the fall breaks the step.
     assert list(g.status) == ["finished", "finished", "invalid", "finished", "finished"]
     assert np.all(np.isnan(g.sali)) and np.all(np.isnan(g.megno_mean)) and g.gali_below_at[3] < 5.0
@@ -221,6 +222,8 @@ def test_chaos_map_equals_single_calls_bit_for_bit():
         r = fd.gali(member, k=3, threshold=1e-6, seed=7)
         assert (g.gali_log10[i], int(g.gali_steps[i])) == (r.log10, r.steps)
         assert g.gali_below_at[i] == r.below_at if r.below_at is not None else math.isnan(g.gali_below_at[i])
+        r = fd.gali(member, k=3, threshold=1e-6, seed=7, quotient=False)
+        assert (stored.gali_log10[i], int(stored.gali_steps[i])) == (r.log10, r.steps)
     # One thread gives the same bits; MEGNO alone leaves SALI's columns NaN.
     one = fd.chaos_map(base, table, threshold=1e-3, seed=7, threads=1)
     assert np.array_equal(one.megno_mean, m.megno_mean, equal_nan=True) and np.array_equal(one.sali, m.sali, equal_nan=True)
@@ -258,7 +261,7 @@ def test_chaos_map_bad_input_is_typed():
 def test_gali_chaotic_regular_and_bad_input():
     tilted = fd.Scene.from_toml(TILTED_GYROSCOPE)
     # GALI_2 and SALI of the same two vectors: GALI_2 = S sqrt(1 - S^2/4).
-    g2 = fd.gali(tilted, k=2, threshold=1e-300)
+    g2 = fd.gali(tilted, k=2, threshold=1e-300, quotient=False)
     s = fd.sali(tilted, threshold=1e-300)
     assert isinstance(g2, fd.GaliResult) and g2.k == 2 and g2.steps == s["steps"]
     expected = s["sali"] * np.sqrt(1.0 - s["sali"] ** 2 / 4.0)
@@ -267,18 +270,30 @@ def test_gali_chaotic_regular_and_bad_input():
     # Chaotic: GALI_3 falls below 1e-12 exponentially; the run stops there.
     g3 = fd.gali(tilted, k=3)
     assert g3.below_at is not None and g3.log10 < -12.0 and g3.times[-1] == g3.below_at
+    # "all": the phase space's dimension (the state group's 7 less the
+    # parallel frame's gauge direction), or the group's on the stored state.
     full = fd.gali(tilted, k="all", threshold=1e-300)
-    assert full.k == 7 and full.steps_per_step == 15
-    # Regular (Kepler): GALI_2 stays of order 1.
+    assert (full.k, full.dimension, full.steps_per_step) == (6, 6, 13)
+    stored = fd.gali(tilted, k="all", threshold=1e-300, quotient=False)
+    assert (stored.k, stored.dimension, stored.steps_per_step) == (7, 7, 15)
+    # Regular (Kepler, a Bertrand orbit): in the phase space GALI_2 falls
+    # like 1/t (one drifting direction), not exponentially; on the stored
+    # state the holonomy angle's drift keeps it of order 1.
     d = fd.Scene.example("s2-point-kepler").to_dict()
     d["time"]["t_end"] = 200.0
     regular = fd.gali(fd.Scene.from_dict(d))
-    assert regular.below_at is None and regular.gali > 1e-2, regular.gali
+    assert regular.below_at is None and -3.0 < regular.log10 < -1.5, regular.log10
+    regular_stored = fd.gali(fd.Scene.from_dict(d), quotient=False)
+    assert regular_stored.below_at is None and regular_stored.gali > 1e-2, regular_stored.gali
     kepler = fd.Scene.example("s2-point-kepler")
     with pytest.raises(fd.InvalidInputError, match="k"):
         fd.gali(kepler, k=1)
+    with pytest.raises(fd.InvalidInputError, match="between 2 and 4"):
+        fd.gali(kepler, k=5)
     with pytest.raises(fd.InvalidInputError, match="between 2 and 5"):
-        fd.gali(kepler, k=6)
+        fd.gali(kepler, k=6, quotient=False)
+    with pytest.raises(TypeError, match="quotient"):
+        fd.gali(kepler, quotient=1)
     with pytest.raises(fd.InvalidInputError, match="'all'"):
         fd.gali(kepler, k="some")
     with pytest.raises(fd.InvalidInputError, match="threshold"):

@@ -2,8 +2,10 @@
 //! GALI₂ against SALI of the same two vectors, the exponential decay of a
 //! chaotic orbit's GALI_k at the sum of its exponent gaps (against the
 //! Benettin spectrum over the same interval), no floor, and the power-law
-//! decay on regular orbits that tells a torus's dimension (the Bertrand
-//! orbit's maximal degeneracy). Run with `--nocapture` to see the numbers.
+//! decay on regular orbits that tells a torus's dimension: in the phase
+//! space (modulo the parallel frame's gauge direction) it tells the
+//! Bertrand orbits' maximal degeneracy. Run with `--nocapture` to see the
+//! numbers.
 
 use framedyn::analysis::{gali, lyapunov_spectrum, sali, GaliOptions, Linearisation, LyapunovOptions, SaliOptions};
 use framedyn::method::{Rkmk, Splitting};
@@ -24,10 +26,10 @@ fn gali2_is_sali_of_the_same_two_vectors() {
     let regular = s2_gyro_with(0.5, 1.0, [1.0, 0.3, 0.4], [0.3, 0.6, 1.0], 300.0, "regular").unwrap();
     for (name, t) in [("chaotic", 20.0), ("chaotic", 150.0), ("regular", 300.0)] {
         let (g, s) = if name == "chaotic" {
-            (gali(&sys, &m, 0.0, &y0, &GaliOptions { threshold: 1e-300, ..GaliOptions::new(0.02, t, 2) }, None).unwrap(), sali(&sys, &m, 0.0, &y0, &SaliOptions { threshold: 1e-300, ..SaliOptions::new(0.02, t) }, None).unwrap())
+            (gali(&sys, &m, 0.0, &y0, &GaliOptions { threshold: 1e-300, quotient: false, ..GaliOptions::new(0.02, t, 2) }, None).unwrap(), sali(&sys, &m, 0.0, &y0, &SaliOptions { threshold: 1e-300, ..SaliOptions::new(0.02, t) }, None).unwrap())
         } else {
             (
-                gali(&regular.system, &m, 0.0, &regular.y0, &GaliOptions { threshold: 1e-300, ..GaliOptions::new(0.02, t, 2) }, None).unwrap(),
+                gali(&regular.system, &m, 0.0, &regular.y0, &GaliOptions { threshold: 1e-300, quotient: false, ..GaliOptions::new(0.02, t, 2) }, None).unwrap(),
                 sali(&regular.system, &m, 0.0, &regular.y0, &SaliOptions { threshold: 1e-300, ..SaliOptions::new(0.02, t) }, None).unwrap(),
             )
         };
@@ -46,7 +48,9 @@ fn gali2_is_sali_of_the_same_two_vectors() {
 /// `2λ₁ − λ₂ − λ₃` averaged over the same interval of the same trajectory
 /// (the same steps: the tangent vectors do not change the trajectory), for
 /// fixed splitting steps and for error-controlled DOP853 steps (tol 1e-10),
-/// within 0.1 % (measured 1e-5); with fixed steps it is the same with
+/// within 0.1 % (measured 1e-5) on the stored state, where the spectrum is
+/// taken, and within 3 % in the phase space (the default: one zero
+/// exponent fewer; measured 1.2 – 1.4 %); with fixed steps it is the same with
 /// `ε = 1e-3` as with the default 1e-5, so the linearisation sets no floor
 /// (it reaches 1e-50 and below).
 #[test]
@@ -62,7 +66,7 @@ fn chaotic_gali_falls_at_the_sum_of_exponent_gaps() {
         ("DOP853, tol 1e-10", &|o| gali(&sys, &Rkmk::dop853(), 0.0, &y0, o, None).unwrap(), &|o| lyapunov_spectrum(&sys, &Rkmk::dop853(), 0.0, &y0, o, None).unwrap(), &adaptive),
     ];
     for (name, run_gali, run_lyapunov, step) in cases {
-        let g = run_gali(&GaliOptions { threshold: 1e-300, ..GaliOptions::with_step(step.clone(), t, 3) });
+        let g = run_gali(&GaliOptions { threshold: 1e-300, quotient: false, ..GaliOptions::with_step(step.clone(), t, 3) });
         let i10 = g.running_log10.iter().position(|l| *l < -10.0).expect("GALI₃ falls below 1e-10");
         let t10 = g.times[i10];
         let fall = (g.running_log10[i10] - g.log10) * 10f64.ln() / (t - t10);
@@ -72,8 +76,18 @@ fn chaotic_gali_falls_at_the_sum_of_exponent_gaps() {
         assert_eq!(e.steps, g.steps, "{name}: the same trajectory");
         assert!(g.log10 < -50.0, "{name}: GALI₃ = {:e}: a floor?", g.gali);
         assert!((fall / gaps - 1.0).abs() < 1e-3, "{name}: GALI₃ falls at {fall}, the gaps sum to {gaps}");
+        // In the phase space (the default) the same gaps, less the gauge
+        // direction's zero exponent: the same rate up to the finite-time
+        // values of the near-zero exponents.
+        let q = run_gali(&GaliOptions { threshold: 1e-300, ..GaliOptions::with_step(step.clone(), t, 3) });
+        let i10 = q.running_log10.iter().position(|l| *l < -10.0).expect("GALI₃ falls below 1e-10");
+        let fall_q = (q.running_log10[i10] - q.log10) * 10f64.ln() / (t - q.times[i10]);
+        let e = run_lyapunov(&LyapunovOptions { transient: q.times[i10], renormalise_every: 1, ..LyapunovOptions::with_step(step.clone(), t).exponents(3) });
+        let gaps_q = 2.0 * e.exponents[0] - e.exponents[1] - e.exponents[2];
+        println!("  in the phase space: GALI₃ < 1e-10 at t = {:.2}, rate {fall_q:.5}, 2λ₁ − λ₂ − λ₃ = {gaps_q:.5} over the same interval", q.times[i10]);
+        assert!((fall_q / gaps_q - 1.0).abs() < 0.03, "{name}: phase-space GALI₃ falls at {fall_q}, the gaps sum to {gaps_q}");
         if matches!(step, StepSize::Fixed(_)) {
-            let coarse = run_gali(&GaliOptions { threshold: 1e-300, linearisation: Linearisation { eps: 1e-3, ..Linearisation::default() }, ..GaliOptions::with_step(step.clone(), t, 3) });
+            let coarse = run_gali(&GaliOptions { threshold: 1e-300, quotient: false, linearisation: Linearisation { eps: 1e-3, ..Linearisation::default() }, ..GaliOptions::with_step(step.clone(), t, 3) });
             println!("  with ε = 1e-3: {:.3e}", coarse.gali);
             assert!((coarse.log10 / g.log10 - 1.0).abs() < 1e-3, "{name}: log10 GALI₃ {} with ε = 1e-5, {} with ε = 1e-3", g.log10, coarse.log10);
         }
@@ -86,8 +100,9 @@ fn bad_gali_options_are_refused() {
     let (sys, y0) = tilted(0.8, 0.6, [1.2, 0.3], [0.9, 0.7], 0.4, 0.6);
     let run = |o: GaliOptions| gali(&sys, &Rkmk::rk4(), 0.0, &y0, &o, None).unwrap_err().to_string();
     for (o, needle) in [
-        (GaliOptions::new(0.01, 1.0, 1), "invalid k = 1: must be between 2 and 7"),
-        (GaliOptions::new(0.01, 1.0, 8), "invalid k = 8"),
+        (GaliOptions::new(0.01, 1.0, 1), "invalid k = 1: must be between 2 and 6 (the phase space's dimension"),
+        (GaliOptions::new(0.01, 1.0, 7), "invalid k = 7"),
+        (GaliOptions { quotient: false, ..GaliOptions::new(0.01, 1.0, 8) }, "invalid k = 8: must be between 2 and 7 (the state group's dimension)"),
         (GaliOptions { threshold: 0.0, ..GaliOptions::new(0.01, 1.0, 2) }, "invalid threshold = 0"),
         (GaliOptions { threshold: 1.0, ..GaliOptions::new(0.01, 1.0, 2) }, "invalid threshold = 1"),
         (GaliOptions::new(f64::NAN, 1.0, 2), "invalid h = NaN"),
@@ -100,58 +115,67 @@ fn bad_gali_options_are_refused() {
 }
 
 
-/// On the regular Kepler orbit of `s2-point-kepler` (Bertrand: closed, the
-/// paper's "maximally degenerate" case), with error-controlled DOP853 steps
-/// over T = 1000: GALI₂ neither falls exponentially nor like a power of t
-/// (log–log slope over t = 100 … 1000 measured 0.03), GALI₃ falls like a
-/// power (slope −0.92), far from the exponential fall of a chaotic orbit
-/// (GALI₃ = 10^−4.75 at T = 1000; the chaotic tilted gyroscope's is 1e-61
-/// at T = 500, above). Through the scene, as the CLI and Python call it.
-#[test]
-fn regular_gali_falls_like_a_power_of_t() {
-    use framedyn::scenes::Scene;
-    use std::sync::atomic::AtomicBool;
-    let mut kepler: Scene = framedyn::scenes::example("s2-point-kepler").unwrap();
-    kepler.time.t_end = 1000.0;
-    kepler.method.name = "dop853".into();
-    kepler.method.h = None;
-    kepler.method.rtol = Some(1e-10);
-    kepler.method.atol = Some(1e-10);
-    for (k, lo, hi) in [(2, -0.3, 0.3), (3, -1.5, -0.5)] {
-        let opts = GaliOptions { threshold: 1e-300, ..kepler.gali_options(k).unwrap() };
-        let g = kepler.gali(&opts, &AtomicBool::new(false)).unwrap();
-        let i = g.times.iter().position(|t| *t >= 100.0).unwrap();
-        let slope = (g.log10 - g.running_log10[i]) / (1000f64.log10() - g.times[i].log10());
-        println!("GALI_{k}: 10^{:.2} at t = {:.1}, 10^{:.2} at T = 1000 ({} steps): log-log slope {slope:.2}", g.running_log10[i], g.times[i], g.log10, g.steps);
-        assert!((lo..=hi).contains(&slope), "GALI_{k}: slope {slope}, expected within [{lo}, {hi}]");
-        assert!(g.log10 > -8.0 && g.below_at.is_none(), "GALI_{k} = 10^{}", g.log10);
-    }
+/// Log–log slope of the running `log₁₀ GALI` over the decade t = 100 …
+/// 1000, from its means over t ∈ [50, 100] and [500, 1000]: on a regular
+/// orbit the index swings by up to a factor 4 within each period (most at
+/// the pericentre passages), so single values make a noisy slope and
+/// window means a clean one.
+fn slope(g: &framedyn::analysis::GaliEstimate) -> f64 {
+    let mean = |a: f64, b: f64| {
+        let v: Vec<f64> = g.times.iter().zip(&g.running_log10).filter(|(t, _)| (a..=b).contains(*t)).map(|(_, l)| *l).collect();
+        v.iter().sum::<f64>() / v.len() as f64
+    };
+    mean(500.0, 1000.0) - mean(50.0, 100.0)
 }
 
-/// The non-Bertrand central orbit of `s2-point-central` (V = r²/2, T = 10⁴,
-/// DOP853 at tol 1e-11): GALI₂ falls like 1/t at first (10^−1.70 at
-/// t = 1000) and then stays (10^−1.86 at t = 10⁴). So on the frame-bundle
-/// states a non-degenerate regular orbit keeps two drifting directions, as
-/// the Bertrand orbit does (above): GALI₂ does not tell them apart, because
-/// the parallel frame's holonomy angle drifts with the energy and angular
-/// momentum in both (docs/integrability.md, "A third indicator: GALI").
+fn scene(name: &str, t_end: f64, tol: f64) -> framedyn::scenes::Scene {
+    let mut s = framedyn::scenes::example(name).unwrap();
+    s.time.t_end = t_end;
+    s.method.name = "dop853".into();
+    s.method.h = None;
+    s.method.rtol = Some(tol);
+    s.method.atol = Some(tol);
+    s
+}
+
+/// GALI₂ in the phase space (the default, modulo the gauge direction of
+/// the parallel frame) tells the Bertrand orbits by their maximal
+/// degeneracy, as the paper calls them ("completely integrable and
+/// maximally degenerate"): every bounded orbit is closed, so neighbouring
+/// motions drift apart in one direction only (along the orbit, with the
+/// period's dependence on the energy) and GALI₂ falls like 1/t — the
+/// Kepler potential on S² and H², the oscillator on S². A non-Bertrand
+/// central potential (Kepler plus `0.2 cos r`, `s2-point-sum`, started
+/// near the Kepler scene's orbit) keeps two drifting directions on its
+/// torus and GALI₂ stays: log–log slope over t = 100 … 1000 −0.99 … −1.00
+/// against 0.12 (window means, [`slope`]); GALI₃ falls like t⁻² on both
+/// (−1.98). On the
+/// stored state (`quotient = false`) the Kepler orbit's GALI₂ stays too: the
+/// parallel frame's holonomy angle drifts with energy and angular momentum,
+/// a second drifting direction. DOP853 at tol 1e-10, T = 1000, through the
+/// scene as the CLI and Python call it.
 #[test]
-fn regular_central_gali2_levels_off_after_a_transient() {
-    use framedyn::scenes::Scene;
+fn phase_space_gali2_tells_bertrand_orbits_from_other_central_orbits() {
     use std::sync::atomic::AtomicBool;
-    let mut central: Scene = framedyn::scenes::example("s2-point-central").unwrap();
-    central.time.t_end = 10_000.0;
-    central.method.name = "dop853".into();
-    central.method.h = None;
-    central.method.rtol = Some(1e-11);
-    central.method.atol = Some(1e-11);
-    let opts = GaliOptions { threshold: 1e-300, ..central.gali_options(2).unwrap() };
-    let g = central.gali(&opts, &AtomicBool::new(false)).unwrap();
-    let at = |t: f64| g.running_log10[g.times.iter().position(|x| *x >= t).unwrap()];
-    let (l100, l1000, l5000) = (at(100.0), at(1000.0), at(5000.0));
-    println!("GALI₂: 10^{l100:.2} at t = 100, 10^{l1000:.2} at 1000, 10^{l5000:.2} at 5000, 10^{:.2} at 10⁴ ({} steps)", g.log10, g.steps);
-    // A fall at first: slope about −1 over t = 100 … 1000.
-    assert!(l1000 - l100 < -0.5, "GALI₂ did not fall over t = 100 … 1000: {l100} → {l1000}");
-    // Then level: over the last half decade it moves by less than 0.15 in log₁₀ (a 1/t fall would be 0.3).
-    assert!((g.log10 - l5000).abs() < 0.15, "GALI₂ still falling: {l5000} at 5000, {} at 10⁴", g.log10);
+    let run = |name: &str, k: usize, quotient: bool| {
+        let sc = scene(name, 1000.0, 1e-10);
+        let g = sc.gali(&GaliOptions { threshold: 1e-300, quotient, ..sc.gali_options(k).unwrap() }, &AtomicBool::new(false)).unwrap();
+        let s = slope(&g);
+        println!("{name}, GALI_{k} ({}, dimension {}): 10^{:.2} at T = 1000 ({} steps), log-log slope over t = 100 … 1000 {s:.2}", if quotient { "phase space" } else { "stored state" }, g.dimension, g.log10, g.steps);
+        (s, g)
+    };
+    for name in ["s2-point-kepler", "h2-point-kepler", "s2-point-oscillator"] {
+        let (s, g) = run(name, 2, true);
+        assert_eq!(g.dimension, 4);
+        assert!((-1.1..=-0.9).contains(&s), "{name}: GALI₂ slope {s}, expected about −1 (one drifting direction)");
+    }
+    let (s, _) = run("s2-point-sum", 2, true);
+    assert!((-0.25..=0.25).contains(&s), "s2-point-sum: GALI₂ slope {s}, expected about 0 (two drifting directions)");
+    for name in ["s2-point-sum", "s2-point-kepler"] {
+        let (s, _) = run(name, 3, true);
+        assert!((-2.1..=-1.9).contains(&s), "{name}: GALI₃ slope {s}, expected about −2");
+    }
+    let (s, g) = run("s2-point-kepler", 2, false);
+    assert_eq!(g.dimension, 5);
+    assert!((-0.25..=0.25).contains(&s), "s2-point-kepler on the stored state: GALI₂ slope {s}, expected about 0 (the holonomy angle drifts too)");
 }

@@ -305,10 +305,13 @@ pub fn megno(scene: &Scene, origin: &str, args: &MegnoArgs) -> Result<(), (u8, S
 /// The settings of `framedyn gali` besides the scene.
 #[derive(Debug, Clone)]
 pub struct GaliArgs {
-    /// Number of tangent vectors (`None`: the state dimension).
+    /// Number of tangent vectors (`None`: the dimension of the space they
+    /// live in).
     pub k: Option<usize>,
     /// GALI below which the orbit is called chaotic.
     pub threshold: f64,
+    /// Modulo the gauge directions (the phase space) or on the stored state.
+    pub quotient: bool,
     /// Seed and linearisation of the tangent vectors.
     pub tangent: TangentArgs,
     /// A map over a member table.
@@ -321,10 +324,11 @@ pub struct GaliArgs {
 pub fn gali(scene: &Scene, origin: &str, args: &GaliArgs) -> Result<(), (u8, String)> {
     let k = match args.k {
         Some(k) => k,
+        None if args.quotient => scene.phase_space_dimension().map_err(|e| error(origin, e.into()))?,
         None => scene.state_dimension().map_err(|e| error(origin, e.into()))?,
     };
     if let Some(table) = &args.map.table {
-        let opts = ChaosMapOptions { sali: false, megno: false, gali: Some(k), gali_threshold: args.threshold, ..map_options(&args.tangent, &args.map) };
+        let opts = ChaosMapOptions { sali: false, megno: false, gali: Some(k), gali_threshold: args.threshold, gali_quotient: args.quotient, ..map_options(&args.tangent, &args.map) };
         return map(scene, origin, table, &opts, args.output.as_deref());
     }
     let cancel = signals::arm();
@@ -332,6 +336,7 @@ pub fn gali(scene: &Scene, origin: &str, args: &GaliArgs) -> Result<(), (u8, Str
     opts.threshold = args.threshold;
     opts.seed = args.tangent.seed;
     opts.linearisation = args.tangent.linearisation();
+    opts.quotient = args.quotient;
     let started = std::time::Instant::now();
     let e = scene.gali(&opts, cancel).map_err(|e| error(origin, e))?;
     let wall = started.elapsed().as_secs_f64();
@@ -345,6 +350,12 @@ pub fn gali(scene: &Scene, origin: &str, args: &GaliArgs) -> Result<(), (u8, Str
     println!("scene:           {origin}");
     println!("steps:           {} {} ({} method steps each)", e.steps, describe(&opts.step), e.steps_per_step);
     println!("wall time:       {wall:.3} s");
+    let dof = scene.state_dimension().map_err(|e| error(origin, e.into()))?;
+    if args.quotient {
+        println!("dimension:       {} (the phase space: the state group's {dof} less {} gauge direction(s) of the parallel frame)", e.dimension, dof - e.dimension);
+    } else {
+        println!("dimension:       {} (the stored state)", e.dimension);
+    }
     println!("gali_{k}:          {:.6e} (log10 {:.6})", e.gali, e.log10);
     // Below the threshold means chaos only when the fall is exponential: on
     // a regular orbit GALI_k falls like a power of t for k above the

@@ -196,12 +196,15 @@ enum Command {
     Gali {
         /// Scene file (.toml or .json) or embedded scene name.
         scene: String,
-        /// Number of tangent vectors, 2 … the state dimension, or `all`.
+        /// Number of tangent vectors, 2 … the phase space's dimension (the state group's with --stored-state), or `all`.
         #[arg(short = 'k', default_value = "2")]
         k: String,
         /// The GALI below which the orbit is called chaotic (the run stops there), 1e-300 ≤ threshold < 1.
         #[arg(long, default_value_t = 1e-12)]
         threshold: f64,
+        /// Measure on the stored state instead of the phase space: keep the deviation vectors' components along the parallel frame's gauge directions.
+        #[arg(long)]
+        stored_state: bool,
         #[command(flatten)]
         tangent: analysis::TangentArgs,
         #[command(flatten)]
@@ -407,10 +410,10 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
             let (s, origin) = load(&scene)?;
             analysis::sali(&s, &origin, &analysis::SaliArgs { threshold, tangent, map, output })
         }
-        Command::Gali { scene, k, threshold, tangent, map, output } => {
+        Command::Gali { scene, k, threshold, stored_state, tangent, map, output } => {
             let (s, origin) = load(&scene)?;
             let k = count_or_all(&k, "-k", "an integer ≥ 2")?;
-            analysis::gali(&s, &origin, &analysis::GaliArgs { k, threshold, tangent, map, output })
+            analysis::gali(&s, &origin, &analysis::GaliArgs { k, threshold, quotient: !stored_state, tangent, map, output })
         }
         Command::Megno { scene, tangent, map, output } => {
             let (s, origin) = load(&scene)?;

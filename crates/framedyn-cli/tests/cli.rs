@@ -9,6 +9,7 @@ use std::process::{Command, Output, Stdio};
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
+use framedyn::analysis::GaliOptions;
 use framedyn::scenes::{example, MemorySink, Scene, DEFAULT_SCENE, EXAMPLES};
 use proptest::prelude::*;
 
@@ -900,13 +901,22 @@ fn gali_prints_the_library_values_and_refuses_bad_options() {
     let out = stdout(&o);
     assert!(e.below_at.is_some(), "{e:?}");
     assert!(out.contains(&format!("gali_3:          {:.6e} (log10 {:.6})", e.gali, e.log10)), "{out}");
+    assert!(out.contains("dimension:       6 (the phase space: the state group's 7 less 1 gauge direction(s)"), "{out}");
     assert!(out.contains(&format!("at t = {:?}", e.below_at.unwrap())), "{out}");
     let (header, rows) = read_csv(&dir.join("gali.csv"));
     assert_eq!(header, ["t", "log10_gali"]);
     assert_eq!(rows.len(), e.times.len());
     assert_eq!(rows.last().unwrap(), &vec![e.below_at.unwrap(), e.log10]);
+    // On the stored state: the library's value without the quotient, and k up to the group's dimension.
+    let o = framedyn(&["gali", path.to_str().unwrap(), "-k", "7", "--stored-state"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let stored = scene.gali(&GaliOptions { quotient: false, ..scene.gali_options(7).unwrap() }, &AtomicBool::new(false)).unwrap();
+    let out = stdout(&o);
+    assert!(out.contains("dimension:       7 (the stored state)"), "{out}");
+    assert!(out.contains(&format!("gali_7:          {:.6e} (log10 {:.6})", stored.gali, stored.log10)), "{out}");
     for (args, needle) in [
-        (&["gali", "s2-point-kepler", "-k", "1"][..], "invalid -k = 1: must be between 2 and 5"),
+        (&["gali", "s2-point-kepler", "-k", "1"][..], "invalid -k = 1: must be between 2 and 4 (the phase space's dimension"),
+        (&["gali", "s2-point-kepler", "-k", "5"][..], "invalid -k = 5: must be between 2 and 4"),
         (&["gali", "s2-point-kepler", "-k", "x"][..], "invalid -k = \"x\""),
         (&["gali", "s2-point-kepler", "--threshold", "0"][..], "invalid --threshold = 0"),
         (&["gali", "s2-point-kepler", "--eps", "1"][..], "invalid --eps = 1"),

@@ -165,20 +165,24 @@ pub fn megno<'py>(py: Python<'py>, scene: &PyScene, seed: u64, eps: Option<f64>,
 }
 
 /// GALI_k of a scene (see `framedyn.gali`): a dict of its values and
-/// running arrays (`k = None`: the state group's dimension).
+/// running arrays (`k = None`: the dimension of the space the vectors live
+/// in, the phase space's with `quotient`, else the state group's).
 #[pyfunction]
-#[pyo3(signature = (scene, k, threshold, seed, eps, fourth_order))]
-pub fn gali<'py>(py: Python<'py>, scene: &PyScene, k: Option<usize>, threshold: f64, seed: u64, eps: Option<f64>, fourth_order: bool) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (scene, k, threshold, seed, eps, fourth_order, quotient))]
+#[allow(clippy::too_many_arguments)]
+pub fn gali<'py>(py: Python<'py>, scene: &PyScene, k: Option<usize>, threshold: f64, seed: u64, eps: Option<f64>, fourth_order: bool, quotient: bool) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene.inner.clone();
     let (k, e) = run_interruptibly(py, move |cancel| {
         let k = match k {
             Some(k) => k,
+            None if quotient => scene.phase_space_dimension()?,
             None => scene.state_dimension()?,
         };
         let mut opts = scene.gali_options(k)?;
         opts.threshold = threshold;
         opts.seed = seed;
         opts.linearisation = Linearisation::chosen(fourth_order, eps);
+        opts.quotient = quotient;
         Ok((k, scene.gali(&opts, cancel)?))
     })?;
     let d = PyDict::new(py);
@@ -190,6 +194,7 @@ pub fn gali<'py>(py: Python<'py>, scene: &PyScene, k: Option<usize>, threshold: 
     d.set_item("running_log10", PyArray1::from_vec(py, e.running_log10))?;
     d.set_item("steps", e.steps)?;
     d.set_item("steps_per_step", e.steps_per_step)?;
+    d.set_item("dimension", e.dimension)?;
     Ok(d)
 }
 
@@ -199,7 +204,7 @@ pub fn gali<'py>(py: Python<'py>, scene: &PyScene, k: Option<usize>, threshold: 
 /// members' status codes and messages. Ctrl-C stops the running members
 /// and raises `KeyboardInterrupt`.
 #[pyfunction]
-#[pyo3(signature = (scene, names, columns, sali, megno, gali, threshold, gali_threshold, seed, eps, fourth_order, threads, oversubscribe))]
+#[pyo3(signature = (scene, names, columns, sali, megno, gali, threshold, gali_threshold, gali_quotient, seed, eps, fourth_order, threads, oversubscribe))]
 #[allow(clippy::too_many_arguments)]
 pub fn chaos_map<'py>(
     py: Python<'py>,
@@ -211,6 +216,7 @@ pub fn chaos_map<'py>(
     gali: Option<usize>,
     threshold: f64,
     gali_threshold: f64,
+    gali_quotient: bool,
     seed: u64,
     eps: Option<f64>,
     fourth_order: bool,
@@ -219,7 +225,7 @@ pub fn chaos_map<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let table = crate::ensemble::table(py, names, &columns)?;
     let linearisation = Linearisation::chosen(fourth_order, eps);
-    let opts = ChaosMapOptions { sali, megno, gali, threshold, gali_threshold, seed, linearisation, threads, oversubscribe };
+    let opts = ChaosMapOptions { sali, megno, gali, threshold, gali_threshold, gali_quotient, seed, linearisation, threads, oversubscribe };
     let base = scene.inner.clone();
     let m = run_interruptibly(py, move |cancel| Ok(map_core(&base, &table, &opts, cancel)?))?;
     let d = PyDict::new(py);

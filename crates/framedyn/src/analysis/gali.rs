@@ -9,11 +9,25 @@
 //! stays away from 0 for `k` up to the number of directions in which
 //! neighbouring motions drift apart linearly (the torus's dimension, in
 //! canonical coordinates) and falls like a power of `t` above it (Skokos,
-//! Bountis & Antonopoulos 2008). The frame-bundle state carries the parallel
-//! frame, whose holonomy angle drifts too, so on our states that count is
-//! the lifted motion's: on the sphere a Bertrand orbit and a non-Bertrand
-//! central orbit both keep two drifting directions (docs/integrability.md,
-//! "A third indicator: GALI").
+//! Bountis & Antonopoulos 2008).
+//!
+//! **The phase space, not the stored state.** The frame-bundle state carries
+//! the parallel frame, which is not part of the physical state: turning it in
+//! place with the components stored in it turned back changes nothing
+//! physical ([`System::gauge`]), and its holonomy angle drifts with the
+//! orbit's actions like an angle of the torus. On the stored state a Bertrand
+//! orbit and a non-Bertrand central orbit on the sphere both keep two
+//! drifting directions. By default ([`GaliOptions::quotient`]) the deviation
+//! vectors are therefore taken modulo the gauge directions — after every
+//! step their components along them (an orthonormal basis of the directions
+//! at the new state) are projected out — so that the index is that of the
+//! physical phase space: there the Bertrand orbit's maximal degeneracy
+//! leaves one drifting direction and `GALI₂` falls like `1/t`, while a
+//! non-degenerate regular orbit keeps `GALI₂` away from 0
+//! (docs/integrability.md, "A third indicator: GALI"). The equations are
+//! equivariant under the gauge rotations, so a step's tangent map takes
+//! gauge directions to gauge directions and the projected map is the
+//! tangent map of the quotient.
 //! `GALI_2` is SALI's relative: `GALI_2 = S·√(1 − S²/4)` for `S = SALI` of
 //! the same two vectors.
 //!
@@ -28,7 +42,7 @@
 
 use std::sync::atomic::AtomicBool;
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 
 use super::tangent::{tangent_images, Linearisation};
 use super::walk::{plan, walk, History, Next};
@@ -50,7 +64,8 @@ pub struct GaliOptions {
     /// The most steps taken (1 … [`MAX_STEPS`](super::MAX_STEPS), the
     /// default; a scene's options take its `method.max_steps`).
     pub max_steps: usize,
-    /// The number `k` of deviation vectors, `2 ≤ k ≤ DOF`.
+    /// The number `k` of deviation vectors, `2 ≤ k ≤` the dimension
+    /// (`DOF`, less the gauge directions with [`quotient`](Self::quotient)).
     pub k: usize,
     /// The run stops when `GALI_k` falls below it, `1e-300 ≤ threshold < 1`
     /// (on a chaotic orbit `GALI_k` falls exponentially; on a regular one it
@@ -58,24 +73,33 @@ pub struct GaliOptions {
     /// falling below a threshold means chaos only for small `k`: compare
     /// the running values).
     pub threshold: f64,
-    /// Seed of the `k` random orthonormal initial vectors (the same vectors
-    /// as the first `k` columns of [`lyapunov_spectrum`](super::lyapunov_spectrum)
-    /// and, for `k = 2`, [`sali`](super::sali()) with this seed).
+    /// Seed of the `k` random orthonormal initial vectors (without
+    /// [`quotient`](Self::quotient), or for a system without gauge
+    /// directions, the same vectors as the first `k` columns of
+    /// [`lyapunov_spectrum`](super::lyapunov_spectrum) and, for `k = 2`,
+    /// [`sali`](super::sali()) with this seed; with it, their components
+    /// outside the gauge directions, orthonormalised).
     pub seed: u64,
     /// The linearisation of the one-step map.
     pub linearisation: Linearisation,
+    /// Take the deviation vectors modulo the system's gauge directions
+    /// ([`System::gauge`]): the index of the physical phase space (see the
+    /// [module documentation](self)). Default `true`; `false` gives the index
+    /// of the stored state, the group's `DOF` dimensions. No effect on a
+    /// system without gauge directions.
+    pub quotient: bool,
 }
 
 impl GaliOptions {
     /// Fixed steps `h`, `k` vectors, threshold 1e-12, seed 1, the default
-    /// linearisation.
+    /// linearisation, modulo the gauge directions.
     pub fn new(h: f64, duration: f64, k: usize) -> Self {
         Self::with_step(StepSize::Fixed(h), duration, k)
     }
 
     /// [`new`](Self::new) with fixed or error-controlled steps.
     pub fn with_step(step: StepSize, duration: f64, k: usize) -> Self {
-        GaliOptions { step, duration, max_steps: super::MAX_STEPS, k, threshold: 1e-12, seed: 1, linearisation: Linearisation::default() }
+        GaliOptions { step, duration, max_steps: super::MAX_STEPS, k, threshold: 1e-12, seed: 1, linearisation: Linearisation::default(), quotient: true }
     }
 }
 
@@ -99,6 +123,10 @@ pub struct GaliEstimate {
     pub steps: usize,
     /// Steps of the method per step (1 + `k` × the difference steps of a column).
     pub steps_per_step: usize,
+    /// The dimension of the space the vectors live in: the state group's
+    /// `DOF`, less the gauge directions taken out
+    /// ([`GaliOptions::quotient`]).
+    pub dimension: usize,
 }
 
 /// `GALI_k` of the trajectory of `method` from `(t0, y0)` (see the [module
@@ -111,17 +139,24 @@ where
 {
     let n = plan(&opts.step, opts.duration, opts.max_steps)?;
     let dof = S::State::DOF;
-    if !(2..=dof).contains(&opts.k) {
-        return Err(AnalysisError::invalid("k", opts.k, format!("between 2 and {dof} (the state group's dimension)")));
+    super::check_start(t0, y0)?;
+    let gauge0 = if opts.quotient { gauge_basis(system, y0, t0)? } else { None };
+    let dimension = dof - gauge0.as_ref().map_or(0, |g| g.ncols());
+    if !(2..=dimension).contains(&opts.k) {
+        let what = if dimension < dof { "the phase space's dimension: the state group's less its gauge directions" } else { "the state group's dimension" };
+        return Err(AnalysisError::invalid("k", opts.k, format!("between 2 and {dimension} ({what})")));
     }
     // Above 1e-300 the run stops before a diagonal entry of R can underflow.
     if !(opts.threshold >= 1e-300 && opts.threshold < 1.0) {
         return Err(AnalysisError::invalid("threshold", opts.threshold, "≥ 1e-300 and < 1"));
     }
     opts.linearisation.validate()?;
-    super::check_start(t0, y0)?;
     let k = opts.k;
     let mut q = super::lyapunov::random_frame(dof, k, opts.seed);
+    if let Some(g) = &gauge0 {
+        project_out(&mut q, g);
+        super::lyapunov::orthonormalise(&mut q, t0)?;
+    }
     let mut r = DMatrix::<f64>::identity(k, k);
     let mut history = n.map_or_else(History::growing, |n| History::every(super::lyapunov::history_stride(n, 1)));
     let log_threshold = opts.threshold.log10();
@@ -129,6 +164,11 @@ where
     let mut below_at = None;
     let walked = walk(system, method, t0, y0, &opts.step, opts.duration, opts.max_steps, cancel, |s| {
         tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut q, &opts.linearisation)?;
+        if opts.quotient {
+            if let Some(g) = gauge_basis(system, s.y1, s.t1)? {
+                project_out(&mut q, &g);
+            }
+        }
         let rs = super::lyapunov::orthonormalise(&mut q, s.t1)?;
         r = rs * &r;
         log10 = 0.0;
@@ -157,5 +197,34 @@ where
         running_log10,
         steps: walked.steps,
         steps_per_step: 1 + k * opts.linearisation.steps_per_column(),
+        dimension,
     })
+}
+
+/// An orthonormal basis of the gauge directions of `system` at `y`
+/// ([`System::gauge`]), as columns of algebra coordinates; `None` if it has
+/// none.
+pub(crate) fn gauge_basis<S>(system: &S, y: &S::State, t: f64) -> Result<Option<DMatrix<f64>>, AnalysisError>
+where
+    S: System,
+{
+    let directions = system.gauge(y);
+    if directions.is_empty() {
+        return Ok(None);
+    }
+    let mut g = DMatrix::zeros(S::State::DOF, directions.len());
+    for (j, d) in directions.iter().enumerate() {
+        g.set_column(j, &DVector::from_vec(S::State::algebra_coords(d)));
+    }
+    super::lyapunov::orthonormalise(&mut g, t)?;
+    Ok(Some(g))
+}
+
+/// `q ← q − G·(Gᵀq)` for orthonormal columns `G`, twice: the second pass
+/// removes what cancellation left of a column that lay mostly along `G`.
+pub(crate) fn project_out(q: &mut DMatrix<f64>, g: &DMatrix<f64>) {
+    for _pass in 0..2 {
+        let c = g.transpose() * &*q;
+        *q -= g * c;
+    }
 }

@@ -52,6 +52,8 @@ pub struct ChaosMapOptions {
     /// GALI's threshold, `1e-300 ≤ threshold < 1`: a member's GALI run stops
     /// when it falls below.
     pub gali_threshold: f64,
+    /// GALI modulo the gauge directions ([`GaliOptions::quotient`](super::GaliOptions::quotient)).
+    pub gali_quotient: bool,
     /// SALI's threshold, `0 < threshold < 1`: a member's SALI run stops when
     /// it falls below.
     pub threshold: f64,
@@ -68,10 +70,11 @@ pub struct ChaosMapOptions {
 }
 
 impl Default for ChaosMapOptions {
-    /// SALI and MEGNO (no GALI), threshold 1e-8 (GALI's 1e-12), seed 1, the
-    /// default linearisation, one thread per core.
+    /// SALI and MEGNO (no GALI; GALI's threshold 1e-12, modulo the gauge
+    /// directions), threshold 1e-8, seed 1, the default linearisation, one
+    /// thread per core.
     fn default() -> Self {
-        ChaosMapOptions { sali: true, megno: true, gali: None, gali_threshold: 1e-12, threshold: 1e-8, seed: 1, linearisation: Linearisation::default(), threads: None, oversubscribe: false }
+        ChaosMapOptions { sali: true, megno: true, gali: None, gali_threshold: 1e-12, gali_quotient: true, threshold: 1e-8, seed: 1, linearisation: Linearisation::default(), threads: None, oversubscribe: false }
     }
 }
 
@@ -84,7 +87,7 @@ impl ChaosMapOptions {
         }
         if let Some(k) = self.gali {
             if k < 2 {
-                return Err(AnalysisError::invalid("k", k, "≥ 2 (and at most the state group's dimension)"));
+                return Err(AnalysisError::invalid("k", k, "≥ 2 (and at most the phase space's dimension, or the state group's without the quotient)"));
             }
             if !(self.gali_threshold >= 1e-300 && self.gali_threshold < 1.0) {
                 return Err(AnalysisError::invalid("gali_threshold", self.gali_threshold, "≥ 1e-300 and < 1"));
@@ -245,6 +248,7 @@ fn member(scene: &mut Scene, columns: &[(FieldPath, &[f64])], i: usize, opts: &C
     if let Some(k) = opts.gali {
         let r = scene.gali_options(k).map_err(SceneAnalysisError::from).and_then(|mut o| {
             o.threshold = opts.gali_threshold;
+            o.quotient = opts.gali_quotient;
             o.seed = opts.seed;
             o.linearisation = opts.linearisation;
             scene.gali(&o, cancel)
