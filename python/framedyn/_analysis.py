@@ -33,7 +33,9 @@ class LyapunovResult:
     or accepted error-controlled ones);
     ``steps_per_step``: steps of the method per step (1 + 2 per tangent
     vector, 4 with fourth-order differences); ``state_dimension``: the
-    number of exponents of the full spectrum; ``two_trajectory``: with
+    state group's dimension; ``dimension``: the number of exponents of the
+    full spectrum (``state_dimension``, less the gauge directions with
+    ``quotient=True``); ``two_trajectory``: with
     ``two_trajectory=True``, the maximal exponent from two nearby
     trajectories (``exponent``, ``stderr``, ``spread``, ``times``,
     ``running``), else ``None``."""
@@ -46,6 +48,7 @@ class LyapunovResult:
     steps: int
     steps_per_step: int
     state_dimension: int
+    dimension: int
     two_trajectory: Optional[Dict[str, Any]]
 
 
@@ -209,6 +212,7 @@ def lyapunov(
     eps: Optional[float] = None,
     fourth_order: bool = False,
     two_trajectory: bool = False,
+    quotient: bool = False,
 ) -> LyapunovResult:
     """The Lyapunov exponents of ``scene``'s trajectory: its method with its
     steps over its time span (a fixed step ``method.h``, or ``rtol``/``atol``:
@@ -219,7 +223,12 @@ def lyapunov(
 
     ``exponents``: how many (largest first), or ``"all"`` (the dimension of
     the state group: the phase space plus the parallel frame's gauge
-    direction, which contributes a 0). ``transient``: time at the start left
+    direction, which contributes a 0; with ``quotient=True`` the phase
+    space's). ``quotient``: the spectrum of the phase space — the tangent
+    vectors taken modulo the gauge directions after every step, as
+    :func:`gali` does by default — whose ``2n`` exponents pair
+    (``λᵢ + λ₂ₙ₊₁₋ᵢ = 0``) with no gauge zero among them; default ``False``
+    (the stored state's spectrum). ``transient``: time at the start left
     out of the averages; ``batches``: batches of the standard error;
     ``seed``: of the random initial tangent frame; ``eps`` and
     ``fourth_order``: the central differences of the step map (default
@@ -233,7 +242,7 @@ def lyapunov(
     Ctrl-C raises ``KeyboardInterrupt``."""
     s = _scene(scene)
     k = _count_or_all(exponents, "exponents", 1, "a positive int")
-    _bools(fourth_order=fourth_order, two_trajectory=two_trajectory)
+    _bools(fourth_order=fourth_order, two_trajectory=two_trajectory, quotient=quotient)
     raw = _framedyn.lyapunov(
         s._native,
         k,
@@ -244,6 +253,7 @@ def lyapunov(
         None if eps is None else _real(eps, "eps"),
         fourth_order,
         two_trajectory,
+        quotient,
     )
     return LyapunovResult(**raw)
 

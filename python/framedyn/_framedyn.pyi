@@ -135,8 +135,9 @@ def lyapunov(
     eps: Optional[float],
     fourth_order: bool,
     two_trajectory: bool,
+    quotient: bool,
 ) -> Dict[str, Any]:
-    """Lyapunov exponents: ``{"exponents", "stderr", "spread", "times", "running", "steps", "steps_per_step", "state_dimension", "two_trajectory"}``."""
+    """Lyapunov exponents: ``{"exponents", "stderr", "spread", "times", "running", "steps", "steps_per_step", "state_dimension", "dimension", "two_trajectory"}``."""
 
 def section(scene: Scene, spec_json: str) -> Dict[str, Any]:
     """Poincaré section: ``{"name", "columns", "units", "data", "rising"}``."""

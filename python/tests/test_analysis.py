@@ -22,6 +22,15 @@ def test_lyapunov_full_spectrum_arrays():
     assert r.two_trajectory is None
     # Integrable (Bertrand) orbit: the maximal exponent is small and the sum vanishes.
     assert abs(r.exponents.sum()) < 1e-6
+    assert r.dimension == 5
+    # The phase space's spectrum: 4 exponents, no gauge zero, the same steps.
+    q = fd.lyapunov(scene, exponents="all", quotient=True)
+    assert (q.dimension, q.state_dimension, q.exponents.shape, q.steps) == (4, 5, (4,), r.steps)
+    assert q.steps_per_step == 9
+    with pytest.raises(fd.InvalidInputError, match="between 1 and 4"):
+        fd.lyapunov(scene, exponents=5, quotient=True)
+    with pytest.raises(TypeError, match="quotient"):
+        fd.lyapunov(scene, quotient="yes")
 
 
 def test_lyapunov_two_trajectory_agrees_on_a_chaotic_affine_body():

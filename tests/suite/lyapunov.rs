@@ -178,6 +178,46 @@ fn hamiltonian_spectra_pair_and_sum_to_zero() {
     }
 }
 
+/// The spectrum of the phase space (`quotient`: tangent vectors modulo the
+/// parallel frame's gauge direction): 6 exponents for the S² gyroscope's 3
+/// degrees of freedom, in pairs `λᵢ + λ₇₋ᵢ = 0` (bound 10/T as above), and
+/// the stored state's 7 without their gauge zero: `λᵢ` (i ≤ 3) and
+/// `λ₇₋ᵢ` equal the stored spectrum's `λᵢ` and `λ₈₋ᵢ` within 10/T, while
+/// the stored spectrum's middle exponent is 0 within 10/T. Same random
+/// initial states, same trajectory.
+#[test]
+fn phase_space_spectrum_pairs_without_the_gauge_zero() {
+    let mut u = Uniform(0x5eed_1234_abcd);
+    for trial in 0..2 {
+        let (sys, y0) = tilted(
+            0.8,
+            0.6,
+            [u.range(0.4, 2.6), u.range(0.0, 6.28)],
+            [u.range(-1.0, 1.0), u.range(-1.0, 1.0)],
+            u.range(0.0, 6.28),
+            u.range(-1.0, 1.0),
+        );
+        let t = 200.0;
+        let bound = 10.0 / t;
+        let m = Splitting::blanes_moan_rkn4();
+        let stored = lyapunov_spectrum(&sys, &m, 0.0, &y0, &LyapunovOptions::new(0.02, t).exponents(7), None).unwrap();
+        let phase = lyapunov_spectrum(&sys, &m, 0.0, &y0, &LyapunovOptions { quotient: true, ..LyapunovOptions::new(0.02, t).exponents(6) }, None).unwrap();
+        println!("trial {trial}: phase space {:.4?} (dimension {}), stored state {:.4?} (dimension {})", phase.exponents, phase.dimension, stored.exponents, stored.dimension);
+        assert_eq!((phase.dimension, stored.dimension, phase.steps), (6, 7, stored.steps));
+        for i in 0..3 {
+            let pair = phase.exponents[i] + phase.exponents[5 - i];
+            assert!(pair.abs() <= bound, "trial {trial}: λ{} + λ{} = {pair}", i + 1, 6 - i);
+            let (top, bottom) = (phase.exponents[i] - stored.exponents[i], phase.exponents[5 - i] - stored.exponents[6 - i]);
+            assert!(top.abs() <= bound && bottom.abs() <= bound, "trial {trial}: against the stored spectrum {top}, {bottom}");
+        }
+        assert!(stored.exponents[3].abs() <= bound, "trial {trial}: the stored spectrum's gauge exponent {}", stored.exponents[3]);
+    }
+    // Asking for more than the phase space has is an error naming it.
+    let (sys, y0) = tilted(0.8, 0.6, [1.2, 0.3], [0.9, 0.7], 0.4, 0.6);
+    let e = lyapunov_spectrum(&sys, &Rkmk::rk4(), 0.0, &y0, &LyapunovOptions { quotient: true, ..LyapunovOptions::new(0.02, 10.0).exponents(7) }, None).unwrap_err().to_string();
+    assert!(e.contains("invalid exponents = 7: must be between 1 and 6 (the phase space's dimension"), "{e}");
+}
+
 /// `log |ξ(t)|` of the first tangent column: the running estimate times the
 /// averaging time, at the running-estimate time nearest `t`.
 fn log_growth(times: &[f64], running: &[Vec<f64>], t0: f64, t: f64) -> f64 {

@@ -102,6 +102,8 @@ pub struct LyapunovArgs {
     pub tangent: TangentArgs,
     /// Add the two-trajectory estimate.
     pub two_trajectory: bool,
+    /// The spectrum of the phase space (modulo the gauge directions).
+    pub phase_space: bool,
     /// Where to write the running estimates.
     pub output: Option<std::path::PathBuf>,
 }
@@ -166,7 +168,9 @@ pub fn lyapunov(scene: &Scene, origin: &str, args: &LyapunovArgs) -> Result<(), 
     let cancel = signals::arm();
     let mut opts = scene.lyapunov_options().map_err(|e| error(origin, e.into()))?;
     let dof = scene.state_dimension().map_err(|e| error(origin, e.into()))?;
-    opts.exponents = args.exponents.unwrap_or(dof);
+    let dimension = if args.phase_space { scene.phase_space_dimension().map_err(|e| error(origin, e.into()))? } else { dof };
+    opts.exponents = args.exponents.unwrap_or(dimension);
+    opts.quotient = args.phase_space;
     opts.renormalise_every = args.every;
     opts.transient = args.transient;
     opts.batches = args.batches;
@@ -201,14 +205,18 @@ pub fn lyapunov(scene: &Scene, origin: &str, args: &LyapunovArgs) -> Result<(), 
         write_atomically(path, &text)?;
     }
     println!("scene:           {origin}");
-    println!("state dimension: {dof} (exponents computed: {})", e.exponents.len());
+    if args.phase_space {
+        println!("phase space:     {} (the state group's {dof} less {} gauge direction(s) of the parallel frame; exponents computed: {})", e.dimension, dof - e.dimension, e.exponents.len());
+    } else {
+        println!("state dimension: {dof} (exponents computed: {})", e.exponents.len());
+    }
     println!("steps:           {} {} ({} method steps each)", e.steps, describe(&opts.step), e.steps_per_step);
     println!("wall time:       {wall:.3} s");
     println!("{:>3}  {:>12}  {:>10}  {:>10}", "i", "exponent", "stderr", "spread");
     for (i, ((l, s), w)) in e.exponents.iter().zip(&e.stderr).zip(&e.spread).enumerate() {
         println!("{:>3}  {l:>12.6}  {s:>10.2e}  {w:>10.2e}", i + 1);
     }
-    if e.exponents.len() == dof {
+    if e.exponents.len() == e.dimension {
         println!("sum:             {:.3e}", e.exponents.iter().sum::<f64>());
     }
     if let Some(t) = two {

@@ -156,9 +156,12 @@ enum Command {
     Lyapunov {
         /// Scene file (.toml or .json) or embedded scene name.
         scene: String,
-        /// Number of exponents (largest first), or `all` (the state group's dimension).
+        /// Number of exponents (largest first), or `all` (the state group's dimension; the phase space's with --phase-space).
         #[arg(short = 'k', long, default_value = "1")]
         exponents: String,
+        /// The spectrum of the phase space: tangent vectors modulo the parallel frame's gauge directions, so that no exponent is the gauge's zero and a Hamiltonian model's 2n exponents pair.
+        #[arg(long)]
+        phase_space: bool,
         /// Steps between re-orthonormalisations of the tangent vectors.
         #[arg(long, default_value_t = 10)]
         every: usize,
@@ -400,10 +403,10 @@ fn run(cli: Cli) -> Result<(), (u8, String)> {
             };
             run_sweep(s, &origin, &table, &output, keep, (threads, oversubscribe), (quiet, !no_space_check))
         }
-        Command::Lyapunov { scene, exponents, every, transient, batches, tangent, two_trajectory, output } => {
+        Command::Lyapunov { scene, exponents, phase_space, every, transient, batches, tangent, two_trajectory, output } => {
             let (s, origin) = load(&scene)?;
             let exponents = count_or_all(&exponents, "--exponents", "a positive integer")?;
-            let args = analysis::LyapunovArgs { exponents, every, transient, batches, tangent, two_trajectory, output };
+            let args = analysis::LyapunovArgs { exponents, every, transient, batches, tangent, two_trajectory, phase_space, output };
             analysis::lyapunov(&s, &origin, &args)
         }
         Command::Sali { scene, threshold, tangent, map, output } => {

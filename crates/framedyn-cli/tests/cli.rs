@@ -9,7 +9,7 @@ use std::process::{Command, Output, Stdio};
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
-use framedyn::analysis::GaliOptions;
+use framedyn::analysis::{GaliOptions, LyapunovOptions};
 use framedyn::scenes::{example, MemorySink, Scene, DEFAULT_SCENE, EXAMPLES};
 use proptest::prelude::*;
 
@@ -757,6 +757,16 @@ fn lyapunov_prints_the_spectrum_and_writes_running_estimates() {
     let o = framedyn(&["lyapunov", "s2-point-kepler", "--two-trajectory"], &dir);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     assert!(stdout(&o).contains("two trajectories:"), "{}", stdout(&o));
+    // The phase space's spectrum: the library's values with `quotient`.
+    let o = framedyn(&["lyapunov", "s2-point-kepler", "-k", "all", "--phase-space"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(out.contains("phase space:     4 (the state group's 5 less 1 gauge direction(s) of the parallel frame; exponents computed: 4)"), "{out}");
+    let q = scene.lyapunov(&LyapunovOptions { quotient: true, ..scene.lyapunov_options().unwrap().exponents(4) }, &AtomicBool::new(false)).unwrap();
+    for (i, l) in q.exponents.iter().enumerate() {
+        assert!(out.contains(&format!("{:>3}  {l:>12.6}", i + 1)), "exponent {i} missing from:\n{out}");
+    }
+    assert!(out.contains("sum:"), "{out}");
 }
 
 /// Bad options exit 2 naming the option and its range; an unsuitable scene

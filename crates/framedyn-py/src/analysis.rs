@@ -43,7 +43,7 @@ fn matrix<'py>(py: Python<'py>, rows: &[Vec<f64>], width: usize) -> PyResult<Bou
 /// The Lyapunov exponents of a scene (see `framedyn.lyapunov`): a dict of
 /// arrays.
 #[pyfunction]
-#[pyo3(signature = (scene, exponents, every, transient, batches, seed, eps, fourth_order, two_trajectory))]
+#[pyo3(signature = (scene, exponents, every, transient, batches, seed, eps, fourth_order, two_trajectory, quotient))]
 #[allow(clippy::too_many_arguments)]
 pub fn lyapunov<'py>(
     py: Python<'py>,
@@ -56,12 +56,18 @@ pub fn lyapunov<'py>(
     eps: Option<f64>,
     fourth_order: bool,
     two_trajectory: bool,
+    quotient: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene.inner.clone();
     let (dof, e, two) = run_interruptibly(py, move |cancel| {
         let mut opts = scene.lyapunov_options()?;
         let dof = scene.state_dimension()?;
-        opts.exponents = exponents.unwrap_or(dof);
+        opts.exponents = match exponents {
+            Some(k) => k,
+            None if quotient => scene.phase_space_dimension()?,
+            None => dof,
+        };
+        opts.quotient = quotient;
         opts.renormalise_every = every;
         opts.transient = transient;
         opts.batches = batches;
@@ -90,6 +96,7 @@ pub fn lyapunov<'py>(
     d.set_item("steps", e.steps)?;
     d.set_item("steps_per_step", e.steps_per_step)?;
     d.set_item("state_dimension", dof)?;
+    d.set_item("dimension", e.dimension)?;
     match two {
         Some(t) => {
             let td = PyDict::new(py);

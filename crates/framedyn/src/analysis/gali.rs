@@ -42,9 +42,9 @@
 
 use std::sync::atomic::AtomicBool;
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
-use super::tangent::{tangent_images, Linearisation};
+use super::tangent::{gauge_basis, project_out, tangent_images, Linearisation};
 use super::walk::{plan, walk, History, Next};
 use super::AnalysisError;
 use crate::dynamics::System;
@@ -199,32 +199,4 @@ where
         steps_per_step: 1 + k * opts.linearisation.steps_per_column(),
         dimension,
     })
-}
-
-/// An orthonormal basis of the gauge directions of `system` at `y`
-/// ([`System::gauge`]), as columns of algebra coordinates; `None` if it has
-/// none.
-pub(crate) fn gauge_basis<S>(system: &S, y: &S::State, t: f64) -> Result<Option<DMatrix<f64>>, AnalysisError>
-where
-    S: System,
-{
-    let directions = system.gauge(y);
-    if directions.is_empty() {
-        return Ok(None);
-    }
-    let mut g = DMatrix::zeros(S::State::DOF, directions.len());
-    for (j, d) in directions.iter().enumerate() {
-        g.set_column(j, &DVector::from_vec(S::State::algebra_coords(d)));
-    }
-    super::lyapunov::orthonormalise(&mut g, t)?;
-    Ok(Some(g))
-}
-
-/// `q ← q − G·(Gᵀq)` for orthonormal columns `G`, twice: the second pass
-/// removes what cancellation left of a column that lay mostly along `G`.
-pub(crate) fn project_out(q: &mut DMatrix<f64>, g: &DMatrix<f64>) {
-    for _pass in 0..2 {
-        let c = g.transpose() * &*q;
-        *q -= g * c;
-    }
 }

@@ -6,7 +6,7 @@ use std::sync::atomic::AtomicBool;
 
 use nalgebra::DMatrix;
 
-use super::tangent::{tangent_images, Linearisation};
+use super::tangent::{gauge_basis, project_out, tangent_images, Linearisation};
 use super::walk::{plan, walk, History, Next};
 use super::AnalysisError;
 use crate::dynamics::System;
@@ -27,7 +27,8 @@ pub struct LyapunovOptions {
     /// The most steps taken (1 … [`MAX_STEPS`](super::MAX_STEPS), the
     /// default; a scene's options take its `method.max_steps`).
     pub max_steps: usize,
-    /// Number `k` of exponents, `1 ≤ k ≤ DOF` (the largest `k`: the first `k`
+    /// Number `k` of exponents, `1 ≤ k ≤ DOF` (less the gauge directions
+    /// with [`quotient`](Self::quotient); the largest `k`: the first `k`
     /// columns of the QR iteration).
     pub exponents: usize,
     /// Steps between re-orthonormalisations (≥ 1).
@@ -42,6 +43,15 @@ pub struct LyapunovOptions {
     pub seed: u64,
     /// The linearisation of the one-step map.
     pub linearisation: Linearisation,
+    /// The spectrum of the phase space: the tangent vectors are taken modulo
+    /// the system's gauge directions ([`System::gauge`]) after every step,
+    /// as GALI's [`quotient`](super::GaliOptions::quotient), so that the
+    /// parallel frame's gauge direction contributes no exponent and a
+    /// Hamiltonian model's `2n` exponents pair, `λᵢ + λ₂ₙ₊₁₋ᵢ = 0`. Default
+    /// `false`: the spectrum of the stored state, the group's `DOF`
+    /// exponents, one zero among them per gauge direction (the other
+    /// exponents are the same up to the finite-time error).
+    pub quotient: bool,
 }
 
 impl LyapunovOptions {
@@ -53,7 +63,7 @@ impl LyapunovOptions {
 
     /// [`new`](Self::new) with fixed or error-controlled steps.
     pub fn with_step(step: StepSize, duration: f64) -> Self {
-        LyapunovOptions { step, duration, max_steps: super::MAX_STEPS, exponents: 1, renormalise_every: 10, transient: 0.0, batches: 10, seed: 1, linearisation: Linearisation::default() }
+        LyapunovOptions { step, duration, max_steps: super::MAX_STEPS, exponents: 1, renormalise_every: 10, transient: 0.0, batches: 10, seed: 1, linearisation: Linearisation::default(), quotient: false }
     }
 
     /// With `k` exponents.
@@ -139,6 +149,10 @@ pub struct LyapunovEstimate {
     pub steps: usize,
     /// Steps of the method per step (1 + tangent columns × difference steps).
     pub steps_per_step: usize,
+    /// The dimension of the space the tangent vectors live in: the state
+    /// group's `DOF`, less the gauge directions taken out
+    /// ([`LyapunovOptions::quotient`]).
+    pub dimension: usize,
 }
 
 /// A deterministic pseudo-random orthonormal `rows × k` frame (xorshift64*).
@@ -276,12 +290,26 @@ where
     let dof = S::State::DOF;
     let n = opts.steps(dof)?;
     super::check_start(t0, y0)?;
+    let gauge0 = if opts.quotient { gauge_basis(system, y0, t0)? } else { None };
+    let dimension = dof - gauge0.as_ref().map_or(0, |g| g.ncols());
+    if opts.exponents > dimension {
+        return Err(AnalysisError::invalid("exponents", opts.exponents, format!("between 1 and {dimension} (the phase space's dimension: the state group's less its gauge directions)")));
+    }
     let mut cols = random_frame(dof, opts.exponents, opts.seed);
+    if let Some(g) = &gauge0 {
+        project_out(&mut cols, g);
+        orthonormalise(&mut cols, t0)?;
+    }
     let t_avg = t0 + opts.transient;
     let stride = n.map(|n| history_stride(n, opts.renormalise_every));
     let mut acc = (opts.transient == 0.0).then(|| Accumulator::new(opts.exponents, t0, stride));
     let walked = walk(system, method, t0, y0, &opts.step, opts.duration, opts.max_steps, cancel, |s| {
         tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut cols, &opts.linearisation)?;
+        if opts.quotient {
+            if let Some(g) = gauge_basis(system, s.y1, s.t1)? {
+                project_out(&mut cols, &g);
+            }
+        }
         if s.index % opts.renormalise_every == 0 || s.last {
             let r = orthonormalise(&mut cols, s.t1)?.diagonal();
             match &mut acc {
@@ -295,7 +323,7 @@ where
     let acc = acc.ok_or_else(|| AnalysisError::invalid("transient", opts.transient, "shorter than the run"))?;
     check_batches(&acc, opts.duration, opts.batches, opts.renormalise_every)?;
     let (exponents, stderr, spread, times, running) = acc.finish(opts.batches);
-    Ok(LyapunovEstimate { exponents, stderr, spread, times, running, steps: walked.steps, steps_per_step: 1 + opts.exponents * opts.linearisation.steps_per_column() })
+    Ok(LyapunovEstimate { exponents, stderr, spread, times, running, steps: walked.steps, steps_per_step: 1 + opts.exponents * opts.linearisation.steps_per_column(), dimension })
 }
 
 /// Settings of [`two_trajectory`].
