@@ -134,6 +134,17 @@ pub(crate) fn tilted(a: f64, b: f64, x: [f64; 2], v: [f64; 2], alpha: f64, spin:
     (m, y0)
 }
 
+/// A random initial state of the tilted gyroscope ([`tilted`], a = 0.8,
+/// b = 0.6): `r ∈ [0.4, 2.6]`, angles in `[0, 6.28]` (not τ: the states
+/// the documented spectra were measured on), rates and spin in `[−1, 1]`.
+#[allow(clippy::approx_constant)]
+fn random_tilted(u: &mut Uniform) -> (S2TiltedGyro, <S2TiltedGyro as System>::State) {
+    let x = [u.range(0.4, 2.6), u.range(0.0, 6.28)];
+    let v = [u.range(-1.0, 1.0), u.range(-1.0, 1.0)];
+    let alpha = u.range(0.0, 6.28);
+    tilted(0.8, 0.6, x, v, alpha, u.range(-1.0, 1.0))
+}
+
 /// The full spectrum (7 exponents: 6 of the phase space and the parallel
 /// frame's gauge direction) of a Hamiltonian model, on random initial
 /// states, integrated by a symplectic splitting (Blanes–Moan RKN 4).
@@ -151,14 +162,7 @@ pub(crate) fn tilted(a: f64, b: f64, x: [f64; 2], v: [f64; 2], alpha: f64, spin:
 fn hamiltonian_spectra_pair_and_sum_to_zero() {
     let mut u = Uniform(0x5eed_1234_abcd);
     for trial in 0..3 {
-        let (sys, y0) = tilted(
-            0.8,
-            0.6,
-            [u.range(0.4, 2.6), u.range(0.0, 6.28)],
-            [u.range(-1.0, 1.0), u.range(-1.0, 1.0)],
-            u.range(0.0, 6.28),
-            u.range(-1.0, 1.0),
-        );
+        let (sys, y0) = random_tilted(&mut u);
         let dof = <S2TiltedGyro as System>::State::DOF;
         let t = 200.0;
         let opts = LyapunovOptions { transient: 0.0, ..LyapunovOptions::new(0.02, t).exponents(dof) };
@@ -189,14 +193,7 @@ fn hamiltonian_spectra_pair_and_sum_to_zero() {
 fn phase_space_spectrum_pairs_without_the_gauge_zero() {
     let mut u = Uniform(0x5eed_1234_abcd);
     for trial in 0..2 {
-        let (sys, y0) = tilted(
-            0.8,
-            0.6,
-            [u.range(0.4, 2.6), u.range(0.0, 6.28)],
-            [u.range(-1.0, 1.0), u.range(-1.0, 1.0)],
-            u.range(0.0, 6.28),
-            u.range(-1.0, 1.0),
-        );
+        let (sys, y0) = random_tilted(&mut u);
         let t = 200.0;
         let bound = 10.0 / t;
         let m = Splitting::blanes_moan_rkn4();
@@ -293,8 +290,7 @@ fn bad_lyapunov_options_are_refused() {
     assert_eq!(field(run(LyapunovOptions { batches: 1, ..LyapunovOptions::new(0.01, 1.0) })).0, "batches");
     assert_eq!(field(run(LyapunovOptions { renormalise_every: 0, ..LyapunovOptions::new(0.01, 1.0) })).0, "renormalise_every");
     assert_eq!(field(run(LyapunovOptions::new(0.01, 0.5))).0, "duration"); // 5 re-orthonormalisations < 10 batches
-    let mut lin = Linearisation::default();
-    lin.eps = 0.0;
+    let lin = Linearisation { eps: 0.0, ..Linearisation::default() };
     assert_eq!(field(run(LyapunovOptions { linearisation: lin, ..LyapunovOptions::new(0.01, 1.0) })).0, "eps");
     let two = |o: TwoTrajectoryOptions| field(two_trajectory(&sys, &m, 0.0, &y0, &o, None).unwrap_err()).0;
     assert_eq!(two(TwoTrajectoryOptions { separation: 0.1, ..TwoTrajectoryOptions::new(0.01, 1.0) }), "separation");
@@ -317,8 +313,8 @@ fn scene_lyapunov_needs_a_group_method_and_takes_its_steps() {
     let mut adaptive = base.clone();
     adaptive.method.name = "dopri5".into();
     adaptive.method.h = None;
-    adaptive.method.rtol = Some(1e-8.into());
-    adaptive.method.atol = Some(1e-8.into());
+    adaptive.method.rtol = Some(1e-8);
+    adaptive.method.atol = Some(1e-8);
     let a = adaptive.lyapunov_options().unwrap();
     assert!(matches!(&a.step, StepSize::Adaptive(c) if c.rtol == Tol::Scalar(1e-8) && c.atol == Tol::Scalar(1e-8)), "{:?}", a.step);
     let ea = adaptive.lyapunov(&a, &no).unwrap();
@@ -530,8 +526,8 @@ fn analyses_honour_max_steps() {
     let mut s = framedyn::scenes::example("s2-gyroscope-pole").unwrap();
     s.method.name = "dop853".into();
     s.method.h = None;
-    s.method.rtol = Some(1e-10.into());
-    s.method.atol = Some(1e-10.into());
+    s.method.rtol = Some(1e-10);
+    s.method.atol = Some(1e-10);
     s.method.max_steps = Some(5);
     let o = s.megno_options().unwrap();
     assert_eq!(o.max_steps, 5);
