@@ -275,11 +275,10 @@ where
     Ok(Some(g))
 }
 
-/// `q ← q − G·(Gᵀq)` for orthonormal columns `G`, twice: the second pass
-/// removes what cancellation left of a column that lay mostly along `G`.
+/// `q ← q − G·(Gᵀq)` for orthonormal columns `G`. One pass: what
+/// cancellation leaves along `G` is round-off relative to the column, and
+/// the analyses project after every step, so it never accumulates.
 pub(crate) fn project_out(q: &mut DMatrix<f64>, g: &DMatrix<f64>) {
-    for _pass in 0..2 {
-        let c = g.transpose() * &*q;
-        *q -= g * c;
-    }
+    let c = g.transpose() * &*q;
+    *q -= g * c;
 }
