@@ -28,8 +28,10 @@
 //! equivariant under the gauge rotations, so a step's tangent map takes
 //! gauge directions to gauge directions and the projected map is the
 //! tangent map of the quotient.
+//!
 //! `GALI_2` is SALI's relative: `GALI_2 = S·√(1 − S²/4)` for `S = SALI` of
-//! the same two vectors.
+//! the same two vectors (with `quotient = false`, where both carry the
+//! same vectors; SALI measures on the stored state).
 //!
 //! The vectors are carried as an orthonormal frame `Q` and a `k × k` upper
 //! triangular `R` with unit columns: the deviation vectors are `Q·R` up to
