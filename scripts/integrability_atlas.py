@@ -1102,6 +1102,14 @@ DEGENERACY_CASES = [
     ("H² point, Kepler (Bertrand)", "maximally degenerate (§5)", "h2-point-kepler", {}),
     ("S² point, Kepler + 0.2 cos r (non-Bertrand)", "integrable (central), orbits not closed", "s2-point-sum", {}),
     ("S² point, V = r²/2 (non-Bertrand)", "integrable (central), orbits not closed", "s2-point-central", {}),
+    ("S³ point, Kepler (Bertrand)", "maximally degenerate ((c88) on S³)", "s3-point-kepler", {}),
+    ("S³ point, oscillator (Bertrand)", "maximally degenerate", "s3-point-oscillator", {}),
+    (
+        "S³ point, Kepler + 0.2 cos r (non-Bertrand)",
+        "integrable (central), orbits not closed",
+        "s3-point-kepler",
+        {"potential": {"kind": "sum", "terms": [{"kind": "kepler", "alpha": 1.0}, {"kind": "cosine", "beta_hat": 0.2, "scale": 1.0}]}, "initial.r1_dot": 0.1},
+    ),
 ]
 
 
