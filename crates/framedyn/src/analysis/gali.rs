@@ -46,11 +46,10 @@ use std::sync::atomic::AtomicBool;
 
 use nalgebra::DMatrix;
 
-use super::tangent::{gauge_basis, project_out, tangent_images, Linearisation};
+use super::tangent::{tangent_images, Linearisation, Space};
 use super::walk::{plan, walk, History, Next};
 use super::AnalysisError;
 use crate::dynamics::System;
-use crate::lie::LieGroup;
 use crate::method::{GroupNumerics, Method};
 use crate::solve::StepSize;
 
@@ -140,13 +139,11 @@ where
     M: Method<S>,
 {
     let n = plan(&opts.step, opts.duration, opts.max_steps)?;
-    let dof = S::State::DOF;
     super::check_start(t0, y0)?;
-    let gauge0 = if opts.quotient { gauge_basis(system, y0, t0)? } else { None };
-    let dimension = dof - gauge0.as_ref().map_or(0, |g| g.ncols());
+    let space = Space::at_start(system, y0, t0, opts.quotient)?;
+    let dimension = space.dimension;
     if !(2..=dimension).contains(&opts.k) {
-        let what = if dimension < dof { "the phase space's dimension: the state group's less its gauge directions" } else { "the state group's dimension" };
-        return Err(AnalysisError::invalid("k", opts.k, format!("between 2 and {dimension} ({what})")));
+        return Err(AnalysisError::invalid("k", opts.k, format!("between 2 and {dimension} ({})", space.describe())));
     }
     // Above 1e-300 the run stops before a diagonal entry of R can underflow.
     if !(opts.threshold >= 1e-300 && opts.threshold < 1.0) {
@@ -154,11 +151,7 @@ where
     }
     opts.linearisation.validate()?;
     let k = opts.k;
-    let mut q = super::lyapunov::random_frame(dof, k, opts.seed);
-    if let Some(g) = &gauge0 {
-        project_out(&mut q, g);
-        super::lyapunov::orthonormalise(&mut q, t0)?;
-    }
+    let mut q = space.random_frame(k, opts.seed, t0)?;
     let mut r = DMatrix::<f64>::identity(k, k);
     let mut history = n.map_or_else(History::growing, |n| History::every(super::lyapunov::history_stride(n, 1)));
     let log_threshold = opts.threshold.log10();
@@ -166,11 +159,7 @@ where
     let mut below_at = None;
     let walked = walk(system, method, t0, y0, &opts.step, opts.duration, opts.max_steps, cancel, |s| {
         tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut q, &opts.linearisation)?;
-        if opts.quotient {
-            if let Some(g) = gauge_basis(system, s.y1, s.t1)? {
-                project_out(&mut q, &g);
-            }
-        }
+        space.project(system, s.y1, s.t1, &mut q)?;
         let rs = super::lyapunov::orthonormalise(&mut q, s.t1)?;
         r = rs * &r;
         log10 = 0.0;

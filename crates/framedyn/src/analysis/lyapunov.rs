@@ -6,7 +6,7 @@ use std::sync::atomic::AtomicBool;
 
 use nalgebra::DMatrix;
 
-use super::tangent::{gauge_basis, project_out, tangent_images, Linearisation};
+use super::tangent::{tangent_images, Linearisation, Space};
 use super::walk::{plan, walk, History, Next};
 use super::AnalysisError;
 use crate::dynamics::System;
@@ -287,29 +287,20 @@ where
     S::State: GroupNumerics,
     M: Method<S>,
 {
-    let dof = S::State::DOF;
-    let n = opts.steps(dof)?;
+    let n = opts.steps(S::State::DOF)?;
     super::check_start(t0, y0)?;
-    let gauge0 = if opts.quotient { gauge_basis(system, y0, t0)? } else { None };
-    let dimension = dof - gauge0.as_ref().map_or(0, |g| g.ncols());
+    let space = Space::at_start(system, y0, t0, opts.quotient)?;
+    let dimension = space.dimension;
     if opts.exponents > dimension {
-        return Err(AnalysisError::invalid("exponents", opts.exponents, format!("between 1 and {dimension} (the phase space's dimension: the state group's less its gauge directions)")));
+        return Err(AnalysisError::invalid("exponents", opts.exponents, format!("between 1 and {dimension} ({})", space.describe())));
     }
-    let mut cols = random_frame(dof, opts.exponents, opts.seed);
-    if let Some(g) = &gauge0 {
-        project_out(&mut cols, g);
-        orthonormalise(&mut cols, t0)?;
-    }
+    let mut cols = space.random_frame(opts.exponents, opts.seed, t0)?;
     let t_avg = t0 + opts.transient;
     let stride = n.map(|n| history_stride(n, opts.renormalise_every));
     let mut acc = (opts.transient == 0.0).then(|| Accumulator::new(opts.exponents, t0, stride));
     let walked = walk(system, method, t0, y0, &opts.step, opts.duration, opts.max_steps, cancel, |s| {
         tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut cols, &opts.linearisation)?;
-        if opts.quotient {
-            if let Some(g) = gauge_basis(system, s.y1, s.t1)? {
-                project_out(&mut cols, &g);
-            }
-        }
+        space.project(system, s.y1, s.t1, &mut cols)?;
         if s.index % opts.renormalise_every == 0 || s.last {
             let r = orthonormalise(&mut cols, s.t1)?.diagonal();
             match &mut acc {

@@ -256,10 +256,67 @@ where
     Ok((cols, y, walked.steps))
 }
 
+/// The space the tangent vectors of an analysis live in: the state group's
+/// algebra, or with `quotient` its quotient by the gauge directions
+/// ([`System::gauge`]) — the physical phase space. The gauge directions
+/// depend on the state, so they are taken at the start for the dimension
+/// and the initial frame, and at every step's end by [`Space::project`].
+pub(crate) struct Space {
+    quotient: bool,
+    /// An orthonormal basis of the gauge directions at the start, with `quotient`.
+    gauge0: Option<DMatrix<f64>>,
+    /// The state group's `DOF`: the rows of a tangent vector.
+    rows: usize,
+    /// The dimension: `DOF`, less the gauge directions with `quotient`.
+    pub dimension: usize,
+}
+
+impl Space {
+    /// The space of `system`'s tangent vectors at `(t0, y0)`.
+    pub(crate) fn at_start<S: System>(system: &S, y0: &S::State, t0: f64, quotient: bool) -> Result<Self, AnalysisError> {
+        let gauge0 = if quotient { gauge_basis(system, y0, t0)? } else { None };
+        let dimension = S::State::DOF - gauge0.as_ref().map_or(0, |g| g.ncols());
+        Ok(Space { quotient, gauge0, rows: S::State::DOF, dimension })
+    }
+
+    /// What [`Space::dimension`] is, for an error naming its bound.
+    pub(crate) fn describe(&self) -> &'static str {
+        if self.gauge0.is_some() {
+            "the phase space's dimension: the state group's less its gauge directions"
+        } else {
+            "the state group's dimension"
+        }
+    }
+
+    /// `k` seeded random orthonormal vectors of the space at the start (the
+    /// group's [`random_frame`](super::lyapunov::random_frame), their gauge
+    /// components removed and orthonormalised again).
+    pub(crate) fn random_frame(&self, k: usize, seed: u64, t0: f64) -> Result<DMatrix<f64>, AnalysisError> {
+        let mut q = super::lyapunov::random_frame(self.rows, k, seed);
+        if let Some(g) = &self.gauge0 {
+            project_out(&mut q, g);
+            super::lyapunov::orthonormalise(&mut q, t0)?;
+        }
+        Ok(q)
+    }
+
+    /// Removes from `cols` their components along the gauge directions at
+    /// `(t, y)` (with `quotient`; else nothing): after every step, so that
+    /// the vectors stay in the quotient.
+    pub(crate) fn project<S: System>(&self, system: &S, y: &S::State, t: f64, cols: &mut DMatrix<f64>) -> Result<(), AnalysisError> {
+        if self.quotient {
+            if let Some(g) = gauge_basis(system, y, t)? {
+                project_out(cols, &g);
+            }
+        }
+        Ok(())
+    }
+}
+
 /// An orthonormal basis of the gauge directions of `system` at `y`
 /// ([`System::gauge`]), as columns of algebra coordinates; `None` if it has
 /// none.
-pub(crate) fn gauge_basis<S>(system: &S, y: &S::State, t: f64) -> Result<Option<DMatrix<f64>>, AnalysisError>
+fn gauge_basis<S>(system: &S, y: &S::State, t: f64) -> Result<Option<DMatrix<f64>>, AnalysisError>
 where
     S: System,
 {
@@ -278,7 +335,7 @@ where
 /// `q ← q − G·(Gᵀq)` for orthonormal columns `G`. One pass: what
 /// cancellation leaves along `G` is round-off relative to the column, and
 /// the analyses project after every step, so it never accumulates.
-pub(crate) fn project_out(q: &mut DMatrix<f64>, g: &DMatrix<f64>) {
+fn project_out(q: &mut DMatrix<f64>, g: &DMatrix<f64>) {
     let c = g.transpose() * &*q;
     *q -= g * c;
 }
