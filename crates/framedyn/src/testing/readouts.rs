@@ -6,7 +6,11 @@
 //! velocity (3), body frame (3 × 2, column-major), spin `s` (1); on S³ —
 //! position (4), velocity (4), body frame (4 × 3), spin (3); an affine body —
 //! position, velocity, body frame, `ρ̇` (2 × 2, column-major); a point —
-//! position, velocity.
+//! position, velocity. The S³ spin and `ρ̇` are components in the parallel
+//! frame `q`, not ambient vectors: the same in every formulation that
+//! carries `q` from the same initial frame, but they turn with `q` along a
+//! gauge direction ([`System::gauge`]), where the ambient `q·π` and `ė` do
+//! not.
 
 use nalgebra::Matrix3;
 
