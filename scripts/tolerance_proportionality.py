@@ -21,6 +21,13 @@ about the centre; on S² also in embedding coordinates) scipy's DOP853 and
 RK45 run at the same tolerances on the same problem, measured in position
 and velocity. Every framedyn run asks for the global-error estimate
 (`global_error=True`) and the script compares it with the measured error.
+Each framedyn method runs twice, plain and with the energy projection
+(`project="energy"`, the rows "+ energy projection"); the script prints
+what the projection gains (error / tol) and costs at equal error
+(vector-field evaluations, energy evaluations per step, wall time — the
+last from the runs' own clocks, noisy at a few milliseconds) and, on the
+Kepler problems, at how many tolerances it is further from tol than
+scipy. `--no-projection` leaves those runs out (builds before `project`).
 
 Writes docs/data/tolerance_proportionality.csv (one row per problem, solver
 and tol) and docs/figures/performance/tolerance_proportionality.png, and
@@ -60,6 +67,8 @@ DATA = os.path.join(ROOT, "docs", "data")
 FIGS = os.path.join(ROOT, "docs", "figures", "performance")
 SAMPLES = 161
 NO_ESTIMATE = False  # --no-estimate: for a build without global_error
+PROJECTIONS = (False, True)  # --no-projection: (False,), for a build without `project`
+PROJECTED = " + energy projection"
 
 # name -> (scene keywords, t_end, reference step, amplifying?, scipy kind or None)
 PROBLEMS = {
@@ -200,7 +209,8 @@ def scipy_runs(name, kw, t_end, ts, ref_pv, tols, rows):
                 e, e_last = error(obs(out.y), ref_pv)
                 rows.append(dict(problem=name, solver=f"scipy {method} ({coords})", tol=tol, max_error=e, final_error=e_last,
                                  max_over_tol=e / tol, rhs_evals=out.nfev, steps="", estimate="", estimate_over_error="",
-                                 estimate_final_over_error="", estimate_rhs_evals=""))
+                                 estimate_final_over_error="", estimate_rhs_evals="", energy_evals="", projection_skipped="",
+                                 wall_time=""))
 
 
 def measure(names, tols):
@@ -229,16 +239,22 @@ def measure(names, tols):
         # the reference's own error is about ref_err/255 (the Kepler runs
         # are checked against scipy below as well).
         assert ref_err < (1e-10 if amplifying else 1e-12), f"{name}: reference not converged"
-        for method in ("dop853", "dopri5"):
-            for tol in tols:
-                extra = {} if NO_ESTIMATE else {"global_error": True}
-                sol = fd.solve(scene(kw, t_end, method=method, rtol=tol, atol=tol, **extra))
-                e, e_last = error(groups(sol), ref_gs)
-                est = sol.stats.get("global_error", float("nan"))
-                rows.append(dict(problem=name, solver=f"framedyn {method}", tol=tol, max_error=e, final_error=e_last, max_over_tol=e / tol,
-                                 rhs_evals=sol.stats["rhs_evals"], steps=sol.stats["steps"], estimate=est, estimate_over_error=est / e,
-                                 estimate_final_over_error=sol.stats.get("global_error_final", float("nan")) / e_last,
-                                 estimate_rhs_evals=sol.stats.get("global_error_rhs_evals", float("nan"))))
+        for projection in PROJECTIONS:
+            for method in ("dop853", "dopri5"):
+                for tol in tols:
+                    extra = {} if NO_ESTIMATE else {"global_error": True}
+                    if projection:
+                        extra["project"] = "energy"
+                    sol = fd.solve(scene(kw, t_end, method=method, rtol=tol, atol=tol, **extra))
+                    e, e_last = error(groups(sol), ref_gs)
+                    est = sol.stats.get("global_error", float("nan"))
+                    rows.append(dict(problem=name, solver=f"framedyn {method}{PROJECTED if projection else ''}", tol=tol, max_error=e,
+                                     final_error=e_last, max_over_tol=e / tol,
+                                     rhs_evals=sol.stats["rhs_evals"], steps=sol.stats["steps"], estimate=est, estimate_over_error=est / e,
+                                     estimate_final_over_error=sol.stats.get("global_error_final", float("nan")) / e_last,
+                                     estimate_rhs_evals=sol.stats.get("global_error_rhs_evals", float("nan")),
+                                     energy_evals=sol.stats.get("energy_evals", 0), projection_skipped=sol.stats.get("projection_skipped", 0),
+                                     wall_time=sol.stats["wall_time"]))
         if scipy_kind:
             scipy_runs(name, kw, t_end, ts, groups(ref, position_velocity_only=True), tols, rows)
         summary[name] = (amplifying, note)
@@ -272,10 +288,12 @@ def chart(rows, summary, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5), sharey=True)
-    for ax, method in zip(axes, ("dop853", "dopri5")):
+    panels = [(method, p) for p in PROJECTIONS for method in ("dop853", "dopri5")]
+    fig, axes = plt.subplots(len(PROJECTIONS), 2, figsize=(13, 5.5 * len(PROJECTIONS)), sharey=True, squeeze=False)
+    for ax, (method, projected) in zip(axes.flat, panels):
+        solver = f"framedyn {method}{PROJECTED if projected else ''}"
         for name, (amplifying, _) in summary.items():
-            rs = [r for r in rows if r["problem"] == name and r["solver"] == f"framedyn {method}"]
+            rs = [r for r in rows if r["problem"] == name and r["solver"] == solver]
             ax.loglog([r["tol"] for r in rs], [r["max_over_tol"] for r in rs], "o-" if not amplifying else "s--", label=name, ms=4)
         sm = "DOP853" if method == "dop853" else "RK45"
         for name, (amplifying, _) in summary.items():
@@ -284,11 +302,12 @@ def chart(rows, summary, path):
                 ax.loglog([r["tol"] for r in rs], [r["max_over_tol"] for r in rs], "x:", color="grey", label=f"{name}: scipy {sm} (polar)")
         ax.axhline(20 if method == "dop853" else 50, color="k", lw=0.8, ls="--")
         ax.set_xlabel("tol (rtol = atol)")
-        ax.set_title(f"framedyn {method}: max error over the trajectory / tol")
+        ax.set_title(f"{solver}: max error / tol", fontsize=10)
         ax.invert_xaxis()
         ax.grid(True, which="major", alpha=0.3)
-    axes[0].set_ylabel("max error / tol")
-    axes[1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    for row in axes:
+        row[0].set_ylabel("max error / tol")
+    axes[0][1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     print(f"wrote {path}")
@@ -301,6 +320,42 @@ def estimate_cost(rows):
             ratios.setdefault(r["solver"], []).append(r["estimate_rhs_evals"] / r["rhs_evals"])
     for solver, q in ratios.items():
         print(f"global-error estimate, {solver}: the reference run costs {min(q):.2f} – {max(q):.2f} × the run (median {np.median(q):.2f})")
+
+
+def projection_report(rows, summary):
+    """The energy projection against the plain method: error / tol, cost at
+    equal error, and (Kepler problems) against scipy at each tol."""
+    print("\nenergy projection: max error / tol (plain -> projected); vector-field evaluations, energy evaluations")
+    print("per step and wall time of the projected run at equal max error, projected / plain (log-log interpolation):")
+    for name in summary:
+        for method in ("dop853", "dopri5"):
+            plain = [r for r in rows if r["problem"] == name and r["solver"] == f"framedyn {method}"]
+            proj = [r for r in rows if r["problem"] == name and r["solver"] == f"framedyn {method}{PROJECTED}"]
+            if not plain or not proj:
+                continue
+            q0, q1 = [r["max_over_tol"] for r in plain], [r["max_over_tol"] for r in proj]
+            old = [(r["max_error"], r["rhs_evals"], r["wall_time"]) for r in plain]
+            new = [(r["max_error"], r["rhs_evals"], r["wall_time"]) for r in proj]
+            ratios = interpolated_ratios(old, new)
+            per_step = [r["energy_evals"] / max(r["steps"], 1) for r in proj]
+            skipped = sum(int(r["projection_skipped"]) for r in proj)
+            cost = (f"evals {min(x[0] for x in ratios):.2f} – {max(x[0] for x in ratios):.2f}, "
+                    f"wall {min(x[1] for x in ratios):.2f} – {max(x[1] for x in ratios):.2f} ({len(ratios)} points)") if ratios else "no common error range"
+            print(f"  {name:18s} {method}: {min(q0):.3g} – {max(q0):.3g} -> {min(q1):.3g} – {max(q1):.3g}; "
+                  f"{min(per_step):.1f} – {max(per_step):.1f} energy evals/step; skipped {skipped}; at equal error: {cost}")
+    for name in summary:
+        for method, refs in (("dop853", ("DOP853",)), ("dopri5", ("RK45",))):
+            proj = {r["tol"]: r["max_over_tol"] for r in rows if r["problem"] == name and r["solver"] == f"framedyn {method}{PROJECTED}"}
+            for ref in refs:
+                for coords in ("polar", "embedding"):
+                    sc = {r["tol"]: r["max_over_tol"] for r in rows if r["problem"] == name and r["solver"] == f"scipy {ref} ({coords})"}
+                    common = sorted(set(proj) & set(sc))
+                    if not common:
+                        continue
+                    worse = [t for t in common if proj[t] > sc[t]]
+                    ratio = [proj[t] / sc[t] for t in common]
+                    print(f"  {name:18s} {method} + projection vs scipy {ref} ({coords}): further from tol at {len(worse)} of {len(common)} "
+                          f"tolerances; error ratio {min(ratio):.3g} – {max(ratio):.3g}")
 
 
 def compare(rows, old_path):
@@ -448,6 +503,7 @@ def main():
     ap.add_argument("--compare", help="an earlier CSV: work at equal error, new / old")
     ap.add_argument("--no-chart", action="store_true")
     ap.add_argument("--no-estimate", action="store_true", help="do not ask for the global-error estimate (builds before it existed)")
+    ap.add_argument("--no-projection", action="store_true", help="no energy-projection runs (builds before `project` existed)")
     ap.add_argument("--compare-wp", nargs=2, metavar=("OLD", "NEW"), help="two wp_rust.csv of scripts/work_precision.py")
     ap.add_argument("--diagnose", action="store_true", help="Kepler rows against scipy, from the CSV; runs nothing else")
     ap.add_argument("--diagnose-tol", type=float, default=1e-10)
@@ -458,8 +514,10 @@ def main():
     if args.compare_wp:
         compare_wp(*args.compare_wp)
         return 0
-    global NO_ESTIMATE
+    global NO_ESTIMATE, PROJECTIONS
     NO_ESTIMATE = args.no_estimate
+    if args.no_projection:
+        PROJECTIONS = (False,)
     tols = [1e-6, 1e-9, 1e-12] if args.quick else [10.0**-k for k in range(6, 13)]
     names = args.problems.split(",")
     rows, summary = measure(names, tols)
@@ -472,6 +530,7 @@ def main():
     print(f"wrote {path}")
     table(rows, summary)
     estimate_cost(rows)
+    projection_report(rows, summary)
     if not args.no_chart:
         os.makedirs(FIGS, exist_ok=True)
         chart(rows, summary, os.path.join(FIGS, "tolerance_proportionality.png"))

@@ -130,7 +130,7 @@ class Scene:
 
     ``manifold``, ``body``, ``potential`` and ``method`` take a dict or just
     the kind / method name. Initial-state keywords (:data:`INITIAL_FIELDS`)
-    go to ``initial``; ``h``, ``rtol``, ``atol``, ``max_steps``, ``global_error`` to ``method``;
+    go to ``initial``; ``h``, ``rtol``, ``atol``, ``max_steps``, ``global_error``, ``project`` to ``method``;
     ``t0``, ``t_end`` (or ``t_span=(t0, t_end)``) to ``time``; ``every``,
     ``times``, ``samples``, ``quantities`` to ``output``. Arrays may be numpy
     arrays; their shapes, dtypes and finiteness are checked, and every error
@@ -175,7 +175,7 @@ class Scene:
         for k, v in fields.items():
             if k in INITIAL_FIELDS:
                 d["initial"][k] = v
-            elif k in ("h", "rtol", "atol", "max_steps", "global_error"):
+            elif k in ("h", "rtol", "atol", "max_steps", "global_error", "project"):
                 d["method"][k] = v
             elif k in ("t0", "t_end"):
                 if t_span is not None:
@@ -186,7 +186,7 @@ class Scene:
             else:
                 raise InvalidInputError(
                     f"Scene: unknown keyword `{k}`; allowed: the initial-state fields {', '.join(INITIAL_FIELDS)}, "
-                    "h, rtol, atol, max_steps, global_error, t0, t_end, every, times, samples, quantities, format, path"
+                    "h, rtol, atol, max_steps, global_error, project, t0, t_end, every, times, samples, quantities, format, path"
                 )
         for k in ("method", "output"):
             if not d[k]:

@@ -305,6 +305,29 @@ fn tolerance_errors_and_the_global_error_line() {
     assert!(!stdout(&o).contains("global error"), "{}", stdout(&o));
 }
 
+/// `project = "energy"` adds the projection's counts to the printed summary
+/// (every step projected, the energy held); any other value is a scene error
+/// (exit 3) naming `method.project` and the allowed values, before any run.
+#[test]
+fn energy_projection_line_and_errors() {
+    let dir = tmpdir("project");
+    let text = EXAMPLES.iter().find(|(n, _)| *n == DEFAULT_SCENE).unwrap().1;
+    let with = |extra: &str| text.replace("name = \"rk4\"\nh = 0.005", &format!("name = \"dop853\"\nrtol = 1e-8\natol = 1e-8\n{extra}"));
+    fs::write(dir.join("p.toml"), with("project = \"energy\"")).unwrap();
+    let o = framedyn(&["run", "p.toml", "--output", "p.csv"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let out = stdout(&o);
+    let steps = summary_number(&out, "steps:");
+    assert!(out.contains(&format!("projection:      energy, {steps} steps projected, 0 skipped")), "{out}");
+    for bad in ["\"momentum\"", "1"] {
+        fs::write(dir.join("bad.toml"), with(&format!("project = {bad}"))).unwrap();
+        let o = framedyn(&["run", "bad.toml", "--output", "bad.csv"], &dir);
+        assert_eq!(code(&o), 3, "{bad}: {}", stderr(&o));
+        assert!(stderr(&o).contains("method.project"), "{bad}: {}", stderr(&o));
+        assert!(!dir.join("bad.csv").exists());
+    }
+}
+
 /// SIGINT, SIGTERM and SIGHUP stop a long run cleanly: exit 128 + signal,
 /// the complete file already at the output path is left as it was, the
 /// records computed so far are a valid partial result beside it, and no

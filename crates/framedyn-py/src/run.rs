@@ -326,6 +326,12 @@ fn to_py<'py>(py: Python<'py>, sink: FlatSink, summary: &RunSummary, frame_shape
         s.set_item("global_error_final", g.last)?;
         s.set_item("global_error_rhs_evals", g.rhs_evals)?;
     }
+    // Only when the scene asked for it ([method] project = "energy").
+    if let Some(p) = &summary.projection {
+        s.set_item("projected_steps", p.projected)?;
+        s.set_item("projection_skipped", p.skipped)?;
+        s.set_item("energy_evals", p.energy_evals)?;
+    }
     d.set_item("summary", s)?;
     Ok(d)
 }

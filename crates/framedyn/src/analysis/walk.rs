@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use super::AnalysisError;
 use crate::dynamics::System;
 use crate::method::{GroupNumerics, Method};
-use crate::solve::{drive, fixed_step_count, Control, DriveError, Event, Save, Settings, Sink, StepSegment, StepSize, StopReason};
+use crate::solve::{drive, fixed_step_count, Control, DriveError, Event, Projection, Save, Settings, Sink, StepSegment, StepSize, StopReason};
 
 /// The most steps an analysis takes, and the default of its options'
 /// `max_steps` (fixed steps are checked against `max_steps` before the run;
@@ -128,7 +128,7 @@ where
     F: FnMut(&Step<'_, S::State>) -> Result<Next, AnalysisError>,
 {
     let t_end = t0 + duration;
-    let settings = Settings { step: step.clone(), save: Save::Ends, dense: false, max_steps, event_xtol: 0.0 };
+    let settings = Settings { step: step.clone(), save: Save::Ends, dense: false, max_steps, event_xtol: 0.0, projection: Projection::None };
     let mut sink = Each { each, cancel, t_end, steps: 0, t: t0 };
     let mut control = Control::default();
     let mut events: &[Event<S::State>] = &[];

@@ -27,7 +27,7 @@ use crate::method::baseline::{ChartState, ChartSystem};
 use crate::method::registry::ChartMethod;
 use crate::method::{Method, StepRequest};
 use crate::solve::event::{Direction, EventRecord};
-use crate::solve::{self, Control, DriveError, EventSet, Save, Settings, SolveError, StepSize, StopReason};
+use crate::solve::{self, Control, DriveError, EventSet, Projection, Save, Settings, SolveError, StepSize, StopReason};
 
 /// A chart-method run of a model: why it stopped, and the time and model
 /// state reached (`None` if the state could not be converted back).
@@ -212,7 +212,7 @@ where
             Ok(p) => ChartSystem::<L, Q>::state(&p.q, &p.qdot),
             Err(e) => return (Err(chart_error(e, t)), t, None),
         };
-        let settings = Settings { step: StepSize::Fixed(h.abs()), save: Save::Ends, dense: false, max_steps: n, event_xtol: 0.0 };
+        let settings = Settings { step: StepSize::Fixed(h.abs()), save: Save::Ends, dense: false, max_steps: n, event_xtol: 0.0, projection: Projection::None };
         let mut none: &[solve::Event<ChartState<Q>>] = &[];
         let mut control = Control { cancel: Some(cancel), progress: None };
         let out = solve::drive(&self.sys, method, t, &start, t + h * n as f64, &settings, &mut none, &mut Discard, &mut control);

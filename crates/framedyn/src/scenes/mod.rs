@@ -150,7 +150,7 @@ pub use scene::Scene;
 pub use simulation::Simulation;
 pub use sink::{Column, EventHit, FlatSink, MemorySink, RecordSink};
 pub use spec::*;
-pub use summary::{GlobalError, Progress, QualityWarning, RunFailure, RunSummary, SceneStop};
+pub use summary::{GlobalError, Progress, ProjectionCounts, QualityWarning, RunFailure, RunSummary, SceneStop};
 
 /// An event on the full record of a scene (one value per column of
 /// [`Simulation::event_columns`]): the crate's one event type on records.

@@ -10,7 +10,7 @@ use super::sink::Column;
 use super::spec::*;
 use crate::method::registry::{self, Built, MethodEntry, MethodParams};
 use crate::method::MethodError;
-use crate::solve::{fixed_step_count, Adaptive, Event, Save, Settings, SolveError, StepSize, Tol, RTOL_MIN};
+use crate::solve::{fixed_step_count, Adaptive, Event, Projection, Save, Settings, SolveError, StepSize, Tol, RTOL_MIN};
 
 /// Default limit on accepted steps of a scene run.
 pub const DEFAULT_SCENE_MAX_STEPS: u64 = 1_000_000_000;
@@ -196,7 +196,11 @@ impl Scene {
                 }
             }
         }
-        let settings = Settings { step, save, dense: false, max_steps: usize::try_from(max_steps).unwrap_or(usize::MAX), event_xtol: 0.0 };
+        let projection = match &m.project {
+            None => Projection::None,
+            Some(name) => Projection::from_name(name).ok_or_else(|| SceneError::invalid("method.project", format!("{name:?}"), format!("must be {}", Projection::NAMES)))?,
+        };
+        let settings = Settings { step, save, dense: false, max_steps: usize::try_from(max_steps).unwrap_or(usize::MAX), event_xtol: 0.0, projection };
         Ok(Plan { t0: t.t0, t_end: t.t_end, entry, method, settings, sel: Sel::new(&quantities), events: Vec::new(), quality: self.quality.limits(), global_error: m.global_error.unwrap_or(false) })
     }
 

@@ -14,12 +14,12 @@ use super::observe::{Observe, Row, Sel};
 use super::plan::{Plan, MEASURED};
 use super::sink::{Column, EventHit, RecordSink};
 use super::spec::Quantity;
-use super::summary::{nan_max, GlobalError, Progress, RunFailure, RunSummary, SceneStop};
+use super::summary::{nan_max, GlobalError, Progress, ProjectionCounts, RunFailure, RunSummary, SceneStop};
 use crate::lie::LieGroup;
 use crate::method::registry::{Built, ChartMethod, Needs};
 use crate::method::{Method, StepRequest};
 use crate::solve::event::{Direction, Event, EventRecord};
-use crate::solve::{self, Control, DriveError, EventSet, Problem, Save, Settings, SolveError, Stats, StepSize, StopReason};
+use crate::solve::{self, Control, DriveError, EventSet, Problem, Projection, Save, Settings, SolveError, Stats, StepSize, StopReason};
 
 /// The object-safe face of an engine.
 pub(crate) trait DynEngine: Send {
@@ -366,7 +366,7 @@ impl<S: Observe> DynEngine for Engine<S> {
             }
         };
         let t_end = self.t + h * n as f64;
-        let settings = Settings { step: StepSize::Fixed(h.abs()), save: Save::Ends, dense: false, max_steps: n, event_xtol: 0.0 };
+        let settings = Settings { step: StepSize::Fixed(h.abs()), save: Save::Ends, dense: false, max_steps: n, event_xtol: 0.0, projection: Projection::None };
         let mut events: &[Event<S::State>] = &[];
         let mut control = Control { cancel: Some(cancel), progress: None };
         let out = solve::drive(self.problem.system(), &m, self.t, &self.y, t_end, &settings, &mut events, &mut Discard, &mut control);
@@ -432,6 +432,13 @@ impl<S: Observe> DynEngine for Engine<S> {
         s.steps = stats.accepted as u64;
         s.rejected = stats.rejected as u64;
         s.rhs_evals = stats.rhs_evals as u64;
+        if plan.settings.projection != Projection::None {
+            s.projection = Some(ProjectionCounts {
+                projected: stats.projections as u64,
+                skipped: stats.projections_skipped as u64,
+                energy_evals: stats.energy_evals as u64,
+            });
+        }
         s.t_reached = self.t;
         match stop {
             Ok(StopReason::Finished) => Ok(()),

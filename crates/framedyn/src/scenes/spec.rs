@@ -424,6 +424,13 @@ pub struct MethodSpec {
     /// [`GlobalError`](super::GlobalError). Costs the reference run.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub global_error: Option<bool>,
+    /// Project the end of every accepted step back onto the initial energy:
+    /// `"energy"`, or `"none"` (default). For flows that turn energy errors
+    /// into growing phase errors (Kepler-type pericentre passages); see
+    /// [`projection`](crate::solve::projection) and `docs/performance.md`,
+    /// "Tolerance proportionality", for what it gains and costs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub project: Option<String>,
     /// `implicit_midpoint` only: Newton tolerance (relative, max norm) in
     /// `[1e-16, 1e-2]` (default 1e-14).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -440,7 +447,7 @@ fn default_method() -> String {
 
 impl Default for MethodSpec {
     fn default() -> Self {
-        MethodSpec { name: default_method(), h: None, rtol: None, atol: None, max_steps: None, global_error: None, newton_tol: None, newton_max_iter: None }
+        MethodSpec { name: default_method(), h: None, rtol: None, atol: None, max_steps: None, global_error: None, project: None, newton_tol: None, newton_max_iter: None }
     }
 }
 

@@ -87,6 +87,23 @@ pub struct RunSummary {
     /// The estimate of the run's global error, when the scene asks for it
     /// (`[method] global_error = true`); `None` otherwise.
     pub global_error: Option<GlobalError>,
+    /// What the energy projection did, when the scene asks for it
+    /// (`[method] project = "energy"`); `None` otherwise.
+    pub projection: Option<ProjectionCounts>,
+}
+
+/// What the energy projection of a run did (`[method] project = "energy"`;
+/// see [`projection`](crate::solve::projection)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ProjectionCounts {
+    /// Accepted steps projected onto the initial energy.
+    pub projected: u64,
+    /// Accepted steps left as the method computed them (energy or gradient
+    /// not finite, gradient zero, or no Newton step reduced the residual).
+    pub skipped: u64,
+    /// Energy evaluations of the projection (its price, besides one
+    /// vector-field evaluation per step that an FSAL method no longer saves).
+    pub energy_evals: u64,
 }
 
 /// An estimate of a run's global error (`[method] global_error = true`).
@@ -142,6 +159,13 @@ pub enum QualityWarning {
         /// The limit.
         limit: f64,
     },
+    /// The energy projection was skipped on some accepted steps.
+    ProjectionSkipped {
+        /// How many.
+        skipped: u64,
+        /// Of how many accepted steps.
+        steps: u64,
+    },
 }
 
 impl fmt::Display for QualityWarning {
@@ -152,6 +176,10 @@ impl fmt::Display for QualityWarning {
                 write!(f, "the energy drift {drift:.3e} exceeds quality.energy_drift = {limit:.3e} (reduce h or tol, or choose a more accurate method)")
             }
             QualityWarning::Defect { defect, limit } => write!(f, "the constraint defect {defect:.3e} exceeds quality.defect = {limit:.3e}"),
+            QualityWarning::ProjectionSkipped { skipped, steps } => write!(
+                f,
+                "the energy projection was skipped on {skipped} of {steps} steps (energy or its gradient not finite or zero, or no Newton step reduced the residual): the energy is not held there"
+            ),
         }
     }
 }
@@ -175,6 +203,7 @@ impl RunSummary {
             stop: SceneStop::Finished,
             warnings: Vec::new(),
             global_error: None,
+            projection: None,
         }
     }
 
@@ -200,6 +229,9 @@ impl RunSummary {
         }
         if self.max_defect.is_finite() && self.max_defect > defect_limit {
             self.warnings.push(QualityWarning::Defect { defect: self.max_defect, limit: defect_limit });
+        }
+        if let Some(p) = self.projection.filter(|p| p.skipped > 0) {
+            self.warnings.push(QualityWarning::ProjectionSkipped { skipped: p.skipped, steps: self.steps });
         }
     }
 
@@ -292,6 +324,9 @@ impl fmt::Display for RunSummary {
         writeln!(f, "energy:          E0 = {:.12e}, max |E - E0| = {:.3e} (relative {:.3e})", self.energy_initial, self.energy_drift, self.relative_energy_drift())?;
         writeln!(f, "momentum maps:   max |J - J0| = {:.3e}", self.momentum_map_drift)?;
         write!(f, "constraint defect: max {:.3e}", self.max_defect)?;
+        if let Some(p) = &self.projection {
+            write!(f, "\nprojection:      energy, {} steps projected, {} skipped ({} energy evaluations)", p.projected, p.skipped, p.energy_evals)?;
+        }
         if let Some(g) = &self.global_error {
             write!(
                 f,

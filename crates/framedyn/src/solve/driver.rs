@@ -43,6 +43,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::event::{brent_dyn, Direction, Event, EventRecord};
+use super::projection::{project_energy, Projection};
 use super::{adaptive, fault_error, Adaptive, DenseSegment, Save, SolveError, Stats, StepSize, StopReason};
 use crate::dynamics::System;
 use crate::lie::{AlgebraVector, LieGroup};
@@ -66,6 +67,9 @@ pub struct Settings {
     pub max_steps: usize,
     /// Absolute time tolerance of event location (0: round-off).
     pub event_xtol: f64,
+    /// What each accepted step is projected back onto (default none; see
+    /// [`projection`](super::projection)).
+    pub projection: Projection,
 }
 
 /// Where a run's results go, as they happen.
@@ -400,6 +404,7 @@ where
         at_idx: 0,
         last_saved: None,
         since_poll: 0,
+        e_ref: None,
     };
     let stop = run.go();
     let stop = run.finish(stop);
@@ -498,6 +503,9 @@ struct Run<'a, 'c, S: System, M: ?Sized, Ev: ?Sized, K: ?Sized> {
     at_idx: usize,
     last_saved: Option<f64>,
     since_poll: usize,
+    /// The energy every accepted step is projected back onto
+    /// ([`Projection::Energy`]).
+    e_ref: Option<f64>,
 }
 
 /// A located crossing: time, event index, direction, state.
@@ -521,6 +529,16 @@ where
         super::problem::check_state(&self.y)?;
         validate::<S::State>(self.set, &self.info, self.t0, self.t_end)?;
         self.method.check(self.sys).map_err(SolveError::from)?;
+        if self.set.projection == Projection::Energy {
+            let e0 = self.sys.energy(&self.y);
+            if !e0.is_finite() {
+                return Err(SolveError::InvalidOptions {
+                    reason: format!("projection = \"energy\" needs a finite energy at t0; it is {e0}"),
+                }
+                .into());
+            }
+            self.e_ref = Some(e0);
+        }
         if let Save::At(times) = &self.set.save {
             let mut at = times.clone();
             at.sort_by(f64::total_cmp);
@@ -614,6 +632,7 @@ where
             let req = StepRequest { f_start: f_cache.take(), error: false, dense, f_end: dense };
             let out = self.method.step(self.sys, t, &self.y, h, req).map_err(|f| fault_error(f, t, h))?;
             self.stats.add_cost(&out.cost);
+            let out = self.projected(out);
             f_cache = out.f_end;
             if let Some(index) = self.accept(t1, h, &out)? {
                 return Ok(StopReason::Event { index });
@@ -725,6 +744,7 @@ where
                 }
                 err_prev = err.max(1e-4);
                 rejected_last = false;
+                let out = self.projected(out);
                 f_cache = out.f_end;
                 if let Some(index) = self.accept(t1, h, &out)? {
                     return Ok(StopReason::Event { index });
@@ -740,6 +760,17 @@ where
                 rejected_last = true;
             }
         }
+    }
+
+    /// The accepted step's output with its end projected
+    /// ([`Settings::projection`]); `f(t₁, y₁)` of an FSAL method is then
+    /// dropped, since it belongs to the unprojected end.
+    fn projected(&mut self, mut out: StepOutput<S::State>) -> StepOutput<S::State> {
+        if let Some(e0) = self.e_ref {
+            out.y = project_energy(self.sys, &out.y, e0, &mut self.stats);
+            out.f_end = None;
+        }
+        out
     }
 
     /// The state at `tau` inside the step from `(t, y0)`: the dense output

@@ -32,6 +32,7 @@ mod error;
 pub mod event;
 mod options;
 mod problem;
+pub mod projection;
 mod solution;
 mod stepper;
 
@@ -40,6 +41,7 @@ pub use error::{Failure, SolveError};
 pub use event::{Direction, Event, EventRecord};
 pub use options::{Adaptive, Controller, ObserverFn, Options, Save, StepSize, Tol, DEFAULT_MAX_STEPS, RTOL_MIN};
 pub use problem::{state_is_finite, Problem};
+pub use projection::Projection;
 pub use solution::{DenseSegment, InvariantSeries, Solution, StopReason, Stats};
 pub use stepper::Stepper;
 

@@ -4,6 +4,7 @@
 use std::fmt;
 
 use super::driver::Settings;
+use super::projection::Projection;
 use super::event::Event;
 use crate::lie::LieGroup;
 
@@ -244,7 +245,7 @@ pub const DEFAULT_MAX_STEPS: usize = 1_000_000;
 impl<G: LieGroup> Options<G> {
     fn with_step(step: StepSize) -> Self {
         Options {
-            settings: Settings { step, save: Save::Steps, dense: false, max_steps: DEFAULT_MAX_STEPS, event_xtol: 0.0 },
+            settings: Settings { step, save: Save::Steps, dense: false, max_steps: DEFAULT_MAX_STEPS, event_xtol: 0.0, projection: Projection::None },
             energy: false,
             defect: false,
             observers: Vec::new(),
@@ -307,6 +308,13 @@ impl<G: LieGroup> Options<G> {
     /// Add an event.
     pub fn event(mut self, event: Event<G>) -> Self {
         self.events.push(event);
+        self
+    }
+
+    /// Project the end of every accepted step back onto a first integral
+    /// (default [`Projection::None`]; see [`projection`](super::projection)).
+    pub fn project(mut self, projection: Projection) -> Self {
+        self.settings.projection = projection;
         self
     }
 

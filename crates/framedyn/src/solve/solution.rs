@@ -51,6 +51,15 @@ pub struct Stats {
     pub dense_evals: usize,
     /// Event-function evaluations.
     pub event_evals: usize,
+    /// Energy evaluations of the projection ([`Projection::Energy`](super::Projection)).
+    pub energy_evals: usize,
+    /// Accepted steps projected onto the initial energy (including those
+    /// already on it to round-off).
+    pub projections: usize,
+    /// Accepted steps whose projection was skipped (energy or gradient not
+    /// finite, gradient zero, or no Newton step reduced the residual; see
+    /// [`projection`](super::projection)).
+    pub projections_skipped: usize,
     /// Smallest accepted `|h|` (∞ before the first step).
     pub h_min: f64,
     /// Largest accepted `|h|` (0 before the first step).
@@ -70,6 +79,9 @@ impl Default for Stats {
             dexp_inv: 0,
             dense_evals: 0,
             event_evals: 0,
+            energy_evals: 0,
+            projections: 0,
+            projections_skipped: 0,
             h_min: f64::INFINITY,
             h_max: 0.0,
         }
