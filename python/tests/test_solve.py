@@ -414,6 +414,16 @@ def test_energy_projection_when_asked():
     for bad in ["momentum", "Energy", 1, True]:
         with pytest.raises(ValueError, match="method.project"):
             fd.solve(fd.Scene(**kw, **tol, project=bad))
+    # The stepping API projects as a run does, back to the initial energy.
+    st = fd.Stepper(fd.Scene(**{**kw, "method": "rk4"}, h=0.01, project="energy"))
+    plain = fd.Stepper(fd.Scene(**{**kw, "method": "rk4"}, h=0.01))
+    e0 = st.energy
+    for _ in range(20):
+        st.step(0.01)
+        plain.step(0.01)
+    st.advance(0.01, 100)
+    plain.advance(0.01, 100)
+    assert abs(st.energy - e0) < 1e-12 * abs(e0) and abs(plain.energy - e0) > 1e-9 * abs(e0)
 
 
 def test_ensemble_members_carry_their_global_error_estimate():

@@ -63,9 +63,10 @@ pub(crate) trait ChartTwin<S: Observe>: Send {
 
     /// `n` steps of `method` of size `h` from `(t, y)` through the driver
     /// (cancellable), in the paper's coordinates; the time and model state
-    /// reached.
+    /// reached; each step projected back onto the chart energy of `(t, y)`
+    /// if `projection` says so.
     #[allow(clippy::too_many_arguments)]
-    fn advance(&self, model: &S, method: &ChartMethod, t: f64, y: &S::State, h: f64, n: usize, cancel: &AtomicBool) -> (Result<StopReason, SolveError>, f64, Option<S::State>);
+    fn advance(&self, model: &S, method: &ChartMethod, t: f64, y: &S::State, h: f64, n: usize, projection: Projection, cancel: &AtomicBool) -> (Result<StopReason, SolveError>, f64, Option<S::State>);
 }
 
 /// The chart equations of the Lagrangian `L` (`Q` coordinates) for a model
@@ -206,13 +207,13 @@ where
         to_model::<S, L, Q, N, E>(lag, model, t + h, &out.y)
     }
 
-    fn advance(&self, model: &S, method: &ChartMethod, t: f64, y: &S::State, h: f64, n: usize, cancel: &AtomicBool) -> (Result<StopReason, SolveError>, f64, Option<S::State>) {
+    fn advance(&self, model: &S, method: &ChartMethod, t: f64, y: &S::State, h: f64, n: usize, projection: Projection, cancel: &AtomicBool) -> (Result<StopReason, SolveError>, f64, Option<S::State>) {
         let lag = self.sys.lagrangian();
         let start = match paper_from_state(lag, model, y) {
             Ok(p) => ChartSystem::<L, Q>::state(&p.q, &p.qdot),
             Err(e) => return (Err(chart_error(e, t)), t, None),
         };
-        let settings = Settings { step: StepSize::Fixed(h.abs()), save: Save::Ends, dense: false, max_steps: n, event_xtol: 0.0, projection: Projection::None };
+        let settings = Settings { step: StepSize::Fixed(h.abs()), save: Save::Ends, dense: false, max_steps: n, event_xtol: 0.0, projection };
         let mut none: &[solve::Event<ChartState<Q>>] = &[];
         let mut control = Control { cancel: Some(cancel), progress: None };
         let out = solve::drive(&self.sys, method, t, &start, t + h * n as f64, &settings, &mut none, &mut Discard, &mut control);

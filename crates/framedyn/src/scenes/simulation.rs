@@ -19,6 +19,7 @@ use crate::lie::LieGroup;
 use crate::method::registry::{Built, ChartMethod, Needs};
 use crate::method::{Method, StepRequest};
 use crate::solve::event::{Direction, Event, EventRecord};
+use crate::solve::projection::project_energy;
 use crate::solve::{self, Control, DriveError, EventSet, Problem, Projection, Save, Settings, SolveError, Stats, StepSize, StopReason};
 
 /// The object-safe face of an engine.
@@ -30,11 +31,14 @@ pub(crate) trait DynEngine: Send {
     fn defect(&self) -> f64;
     /// Whether a method with these needs can integrate the model.
     fn supports(&self, needs: Needs) -> bool;
-    /// One step of `method` of size `h` from the current state.
-    fn step(&mut self, method: &Built, h: f64) -> Result<(), SolveError>;
+    /// One step of `method` of size `h` from the current state, projected
+    /// back onto the initial state's energy if `projection` says so.
+    fn step(&mut self, method: &Built, h: f64, projection: Projection) -> Result<(), SolveError>;
     /// `n` steps of `method` of size `h` from the current state, through the
-    /// driver (cancellable).
-    fn advance(&mut self, method: &Built, h: f64, n: usize, cancel: &AtomicBool) -> Result<StopReason, SolveError>;
+    /// driver (cancellable), each projected back onto the initial state's
+    /// energy if `projection` says so (through a coordinate method: onto the
+    /// chart energy of the state the call starts from).
+    fn advance(&mut self, method: &Built, h: f64, n: usize, projection: Projection, cancel: &AtomicBool) -> Result<StopReason, SolveError>;
     fn reset(&mut self);
     /// Runs the plan from the initial state, records to `ctx`.
     fn run(&mut self, plan: &Plan, ctx: &mut Ctx<'_>) -> Result<(), RunError>;
@@ -334,20 +338,25 @@ impl<S: Observe> DynEngine for Engine<S> {
         }
     }
 
-    fn step(&mut self, method: &Built, h: f64) -> Result<(), SolveError> {
+    fn step(&mut self, method: &Built, h: f64, projection: Projection) -> Result<(), SolveError> {
         if !(h.is_finite() && h != 0.0) {
             return Err(SolveError::InvalidParameter { field: "h", value: h, allowed: "finite and ≠ 0" });
         }
         let sys = self.problem.system();
-        self.y = match method {
+        let y = match method {
             Built::Group(m) => m.step(sys, self.t, &self.y, h, StepRequest::plain()).map_err(|f| solve::fault_error(f, self.t, h))?.y,
             Built::Chart(m) => self.chart(m)?.step(sys, m, self.t, &self.y, h)?,
+        };
+        self.y = match projection {
+            Projection::None => y,
+            Projection::Energy => project_energy(sys, &y, sys.energy(self.problem.y0()), &mut Stats::default()),
+            Projection::Level(e) => project_energy(sys, &y, e, &mut Stats::default()),
         };
         self.t += h;
         Ok(())
     }
 
-    fn advance(&mut self, method: &Built, h: f64, n: usize, cancel: &AtomicBool) -> Result<StopReason, SolveError> {
+    fn advance(&mut self, method: &Built, h: f64, n: usize, projection: Projection, cancel: &AtomicBool) -> Result<StopReason, SolveError> {
         if !(h.is_finite() && h != 0.0) {
             return Err(SolveError::InvalidParameter { field: "h", value: h, allowed: "finite and ≠ 0" });
         }
@@ -357,7 +366,7 @@ impl<S: Observe> DynEngine for Engine<S> {
         let m = match method {
             Built::Group(m) => *m,
             Built::Chart(m) => {
-                let (stop, t, y) = self.chart(m)?.advance(self.problem.system(), m, self.t, &self.y, h, n, cancel);
+                let (stop, t, y) = self.chart(m)?.advance(self.problem.system(), m, self.t, &self.y, h, n, projection, cancel);
                 if let Some(y) = y {
                     self.t = t;
                     self.y = y;
@@ -366,7 +375,12 @@ impl<S: Observe> DynEngine for Engine<S> {
             }
         };
         let t_end = self.t + h * n as f64;
-        let settings = Settings { step: StepSize::Fixed(h.abs()), save: Save::Ends, dense: false, max_steps: n, event_xtol: 0.0, projection: Projection::None };
+        // Back to the scene's initial energy, not to that of this call's start.
+        let projection = match projection {
+            Projection::Energy => Projection::Level(self.problem.system().energy(self.problem.y0())),
+            other => other,
+        };
+        let settings = Settings { step: StepSize::Fixed(h.abs()), save: Save::Ends, dense: false, max_steps: n, event_xtol: 0.0, projection };
         let mut events: &[Event<S::State>] = &[];
         let mut control = Control { cancel: Some(cancel), progress: None };
         let out = solve::drive(self.problem.system(), &m, self.t, &self.y, t_end, &settings, &mut events, &mut Discard, &mut control);
@@ -643,7 +657,7 @@ impl Simulation {
     /// initial state).
     pub fn step(&mut self, h: f64) -> Result<(), SolveError> {
         self.start_stepping();
-        let out = self.engine.step(&self.plan.method, h);
+        let out = self.engine.step(&self.plan.method, h, self.plan.settings.projection);
         self.note_stepping();
         out
     }
@@ -658,7 +672,7 @@ impl Simulation {
     /// `cancel` is raised ([`StopReason::Cancelled`], the state reached kept).
     pub fn advance_cancellable(&mut self, h: f64, n: usize, cancel: &AtomicBool) -> Result<StopReason, SolveError> {
         self.start_stepping();
-        let out = self.engine.advance(&self.plan.method, h, n, cancel);
+        let out = self.engine.advance(&self.plan.method, h, n, self.plan.settings.projection, cancel);
         self.note_stepping();
         out
     }

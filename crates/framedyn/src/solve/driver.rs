@@ -504,7 +504,7 @@ struct Run<'a, 'c, S: System, M: ?Sized, Ev: ?Sized, K: ?Sized> {
     last_saved: Option<f64>,
     since_poll: usize,
     /// The energy every accepted step is projected back onto
-    /// ([`Projection::Energy`]).
+    /// ([`Projection::Energy`], [`Projection::Level`]).
     e_ref: Option<f64>,
 }
 
@@ -529,15 +529,16 @@ where
         super::problem::check_state(&self.y)?;
         validate::<S::State>(self.set, &self.info, self.t0, self.t_end)?;
         self.method.check(self.sys).map_err(SolveError::from)?;
-        if self.set.projection == Projection::Energy {
-            let e0 = self.sys.energy(&self.y);
-            if !e0.is_finite() {
-                return Err(SolveError::InvalidOptions {
-                    reason: format!("projection = \"energy\" needs a finite energy at t0; it is {e0}"),
-                }
-                .into());
+        self.e_ref = match self.set.projection {
+            Projection::None => None,
+            Projection::Energy => Some(self.sys.energy(&self.y)),
+            Projection::Level(e) => Some(e),
+        };
+        if let Some(e0) = self.e_ref.filter(|e| !e.is_finite()) {
+            return Err(SolveError::InvalidOptions {
+                reason: format!("projection = \"energy\" needs a finite energy level; it is {e0} (the energy at t0, or the level given)"),
             }
-            self.e_ref = Some(e0);
+            .into());
         }
         if let Save::At(times) = &self.set.save {
             let mut at = times.clone();

@@ -1,5 +1,5 @@
 //! Projection of each accepted step back onto the energy level of the
-//! initial state ([HLW06] §IV.4, "standard projection").
+//! initial state (\[HLW06\] §IV.4, "standard projection").
 //!
 //! A Runge–Kutta(–Munthe-Kaas) step conserves no nonlinear first integral,
 //! and on flows whose period depends on the energy — Kepler-type orbits with
@@ -28,6 +28,13 @@
 //! kinetic and potential energy nearly cancel). The state is then left as
 //! the method computed it ([`Stats::projections_skipped`]).
 //!
+//! **Where it applies**: every accepted step of a run of the
+//! [`driver`](super::driver) ([`Settings::projection`](super::Settings),
+//! [`Options::project`](super::Options::project), a scene's
+//! `[method] project = "energy"`), and every step of the scene engine's
+//! stepping API, which projects onto the scene's initial energy
+//! ([`Projection::Level`]).
+//!
 //! **What it does not do**: it is not applied to dense-output samples inside
 //! a step (their energy error is one step's local error, not a sum), and it
 //! assumes the system is autonomous and conservative — true of every model
@@ -46,14 +53,18 @@ use crate::method::{Alg, GroupNumerics};
 use super::Stats;
 
 /// Which first integral each accepted step is projected back onto.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Projection {
     /// None: the method's own states (default).
     #[default]
     None,
-    /// The energy [`System::energy`] of the initial state (see the module
-    /// documentation of [`projection`](self)).
+    /// The energy [`System::energy`] of the state the run starts from (see
+    /// the module documentation of [`projection`](self)).
     Energy,
+    /// The energy level `E = value`, given (finite). What the scene engine's
+    /// stepping API uses, so that steps taken in many calls all return to
+    /// the scene's initial energy instead of each call's starting one.
+    Level(f64),
 }
 
 impl Projection {
@@ -69,11 +80,12 @@ impl Projection {
         }
     }
 
-    /// The name of the projection (the inverse of [`from_name`](Self::from_name)).
+    /// The name of the projection (the inverse of [`from_name`](Self::from_name);
+    /// `"energy"` for a given level too).
     pub fn name(self) -> &'static str {
         match self {
             Projection::None => "none",
-            Projection::Energy => "energy",
+            Projection::Energy | Projection::Level(_) => "energy",
         }
     }
 }
