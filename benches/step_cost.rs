@@ -11,6 +11,11 @@
 //! hits both alike (thread-CPU time); the median per-round ratio is printed and written to
 //! `docs/data/step_cost.csv`. `FRAMEDYN_RATIOS_ONLY=1` skips criterion.
 //!
+//! Rows `project_energy`: the energy projection of a state off its level
+//! (`project = "energy"`) against one DOP853 step of the same model, the
+//! baseline of these rows (`FRAMEDYN_RATIOS_FILTER=project_energy` runs them
+//! alone and prints them).
+//!
 //! In test mode (`cargo test --all-targets`, no `--bench` argument)
 //! criterion runs each bench once and the ratio table is skipped.
 //!
@@ -41,6 +46,8 @@ use criterion::Criterion;
 use framedyn::dynamics::System;
 use framedyn::lie::{LieGroup, ProductAlgebra};
 use framedyn::method::{GroupNumerics, Method, Rkmk, Splitting, StepRequest};
+use framedyn::solve::projection::project_energy;
+use framedyn::solve::Stats;
 use framedyn::testing::*;
 use nalgebra::{Matrix3, Vector1, Vector2, Vector3};
 
@@ -377,6 +384,32 @@ fn ratio_row_against(mut baseline: impl FnMut(), mut step: impl FnMut()) -> (f64
     (median(&mut own), median(&mut base), median(&mut ratio))
 }
 
+/// The energy projection of a state `1e-8` off its level in every algebra
+/// coordinate (gradient, Newton steps) against one DOP853 step from the
+/// state: the projection's cost per accepted step as a fraction of the
+/// step's (`project = "energy"`; docs/performance.md, "Tolerance
+/// proportionality").
+fn projection_row<S>(sys: &S, y0: &S::State) -> (f64, f64, f64)
+where
+    S: System,
+    S::State: GroupNumerics,
+{
+    let off = y0.compose(&S::State::exp(&S::State::algebra_from_coords(&vec![1e-8; S::State::DOF]))).renormalize();
+    let e0 = sys.energy(y0);
+    let mut stats = Stats::default();
+    let _ = project_energy(sys, &off, e0, &mut stats);
+    assert_eq!((stats.projections, stats.projections_skipped), (1, 0), "the projection runs in full");
+    let m = Rkmk::dop853();
+    ratio_row_against(
+        || {
+            black_box(m.step(sys, 0.0, black_box(y0), H, StepRequest::plain()).map(|o| o.y).ok());
+        },
+        || {
+            black_box(project_energy(sys, black_box(&off), e0, &mut Stats::default()));
+        },
+    )
+}
+
 /// `FRAMEDYN_RATIOS_FILTER=<text>` keeps only the rows whose
 /// `system/method` contains `<text>` (profiling one step); the CSV is then
 /// not written.
@@ -410,6 +443,10 @@ fn ratio_table() {
                     rows.push(($name.to_string(), mname.into(), o, b, q));
                 }
             });
+            if wanted($name, "project_energy") {
+                let (o, b, q) = projection_row(&sys, &y0);
+                rows.push(($name.to_string(), "project_energy".into(), o, b, q));
+            }
         }};
     }
     let (o, b, q) = ratio_row(&hs, &hy, || {
@@ -504,7 +541,13 @@ fn ratio_table() {
     writeln!(out, "system,method,ns_per_call,baseline,baseline_ns,ratio_to_baseline").unwrap();
     println!("\n{:<14} {:<11} {:>10} {:>12} {:>10}", "system", "call", "ns/call", "baseline ns", "ratio");
     for (s, m, o, b, q) in &rows {
-        let base = if m.ends_with("_vs_hand_strang") { "hand_strang" } else { "hand_rkmk4" };
+        let base = if m.ends_with("_vs_hand_strang") {
+            "hand_strang"
+        } else if m == "project_energy" {
+            "dop853"
+        } else {
+            "hand_rkmk4"
+        };
         writeln!(out, "{s},{m},{o:.1},{base},{b:.1},{q:.3}").unwrap();
         println!("{s:<14} {m:<11} {o:>10.1} {b:>12.1} {q:>10.3}");
     }
