@@ -49,7 +49,8 @@ integrability_map_s2_affine.csv, integrability_map_s2_gyroscope.csv,
 integrability_map_s3_gyroscope.csv, integrability_maps.csv, integrability_sali_floor.csv,
 integrability_sections.csv, integrability_params_s2_affine.csv,
 integrability_params_s2_gyroscope.csv, integrability_params_summary.csv,
-integrability_params_long.csv, integrability_degeneracy.csv and
+integrability_params_long.csv, integrability_degeneracy.csv,
+integrability_leveling.csv (--leveling) and
 docs/figures/integrability_*.png, and prints
 the tables as Markdown (docs/integrability.md quotes them). Run:
     .venv/bin/python scripts/integrability_atlas.py               # all
@@ -58,6 +59,7 @@ the tables as Markdown (docs/integrability.md quotes them). Run:
     .venv/bin/python scripts/integrability_atlas.py --table-only  # table and cost
     .venv/bin/python scripts/integrability_atlas.py --params-only # the maps over parameters only
     .venv/bin/python scripts/integrability_atlas.py --degeneracy-only  # GALI of the central orbits: maximal degeneracy
+    .venv/bin/python scripts/integrability_atlas.py --leveling 1e7     # GALI₂ of V = r²/2 on S² to t = 1e7 (~25 min)
     .venv/bin/python scripts/integrability_atlas.py --quick       # small grids, into out/integrability_quick/
     .venv/bin/python scripts/integrability_atlas.py --floor-only  # the SALI floor check only
     .venv/bin/python scripts/integrability_atlas.py --floor-scenes DIR  # its orbits as scenes (JSON)
@@ -1157,6 +1159,36 @@ def degeneracy(quick, data):
     return rows
 
 
+def leveling(t_end, data):
+    """How long the weak twist of V = r²/2 on S² (the scene s2-point-central,
+    not a Bertrand potential) keeps GALI₂ falling like 1/t: GALI₂ in the
+    phase space to `t_end` (DOP853, tol 1e-10), its log–log slope over each
+    decade and its mean over each half-decade window [t/2, t]. A torus with
+    twist keeps GALI₂ at a constant once the two drifts separate; a closed
+    orbit (Bertrand) keeps it falling like 1/t."""
+    sc = scene("s2-point-central", t_end, **{"method.name": "dop853", "method.h": None, "method.rtol": 1e-10, "method.atol": 1e-10})
+    g = fd.gali(sc, k=2, threshold=1e-300, quotient=True)
+    rows = []
+    t = 10.0 ** 2.5
+    while t <= t_end * (1 + 1e-12):
+        m = (g.times >= t / 2) & (g.times <= t)
+        row = {"t": t, "mean_log10_gali2_over_t_half_to_t": float(np.mean(g.running_log10[m]))}
+        if t >= 1000.0 and abs(math.log10(t) - round(math.log10(t))) < 1e-9:
+            row["slope_over_the_decade_to_t"] = window_slope(g, t / 10.0, t)
+        else:
+            row["slope_over_the_decade_to_t"] = float("nan")
+        rows.append(row)
+        t *= 10.0 ** 0.5
+    write(os.path.join(data, "integrability_leveling.csv"), rows)
+    print(f"\nGALI₂ (phase space) of V = r²/2 on S² (s2-point-central), DOP853 tol 1e-10, T = {t_end:g}, {g.steps} steps:\n")
+    print("| t | mean log10 GALI₂ over [t/2, t] | slope over the decade to t |")
+    print("|---|---|---|")
+    for r in rows:
+        sl = r["slope_over_the_decade_to_t"]
+        print(f"| {r['t']:.3g} | {r['mean_log10_gali2_over_t_half_to_t']:.2f} | {'' if math.isnan(sl) else f'{sl:.2f}'} |")
+    return rows
+
+
 def run_params(quick, data, figures):
     summary = param_maps(quick, data, figures)
     print_params(summary, param_drift(quick), compare_with_initial_maps(quick))
@@ -1174,6 +1206,7 @@ def main():
     ap.add_argument("--grids-only", action="store_true", help="the SALI/MEGNO maps over initial conditions only (not the floor check and sections)")
     ap.add_argument("--params-only", action="store_true", help="the maps over parameters only (the affine body's J anisotropy, the gyroscope's tilt)")
     ap.add_argument("--degeneracy-only", action="store_true", help="the GALI table of maximal degeneracy only (central potentials, phase space against stored state)")
+    ap.add_argument("--leveling", type=float, metavar="T", help="GALI₂ of V = r²/2 on S² to T (e.g. 1e7: about 25 minutes), per decade, and stop")
     ap.add_argument("--floor-scenes", metavar="DIR", help="write the floor check's orbits as scene files (JSON) into DIR and stop")
     ap.add_argument("--workers", type=int, default=2, help="worker processes for the sections (1 or 2); the maps run on the Rust threads of fd.chaos_map")
     args = ap.parse_args()
@@ -1193,6 +1226,10 @@ def main():
         floor = sali_floor(args.quick)
         write(os.path.join(data, "integrability_sali_floor.csv"), floor)
         print_floor(floor)
+        print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
+        return
+    if args.leveling:
+        leveling(args.leveling, data)
         print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
         return
     if args.degeneracy_only:
