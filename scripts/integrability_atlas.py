@@ -60,6 +60,7 @@ the tables as Markdown (docs/integrability.md quotes them). Run:
     .venv/bin/python scripts/integrability_atlas.py --params-only # the maps over parameters only
     .venv/bin/python scripts/integrability_atlas.py --degeneracy-only  # GALI of the central orbits: maximal degeneracy
     .venv/bin/python scripts/integrability_atlas.py --leveling 1e7     # GALI₂ of V = r²/2 on S² to t = 1e7 (~25 min)
+        [--leveling-tol 1e-8] [--leveling-fourth-order]               # other tolerance / tangent differences
     .venv/bin/python scripts/integrability_atlas.py --quick       # small grids, into out/integrability_quick/
     .venv/bin/python scripts/integrability_atlas.py --floor-only  # the SALI floor check only
     .venv/bin/python scripts/integrability_atlas.py --floor-scenes DIR  # its orbits as scenes (JSON)
@@ -1159,15 +1160,15 @@ def degeneracy(quick, data):
     return rows
 
 
-def leveling(t_end, data):
+def leveling(t_end, data, tol=1e-10, fourth_order=False):
     """How long the weak twist of V = r²/2 on S² (the scene s2-point-central,
     not a Bertrand potential) keeps GALI₂ falling like 1/t: GALI₂ in the
     phase space to `t_end` (DOP853, tol 1e-10), its log–log slope over each
     decade and its mean over each half-decade window [t/2, t]. A torus with
     twist keeps GALI₂ at a constant once the two drifts separate; a closed
     orbit (Bertrand) keeps it falling like 1/t."""
-    sc = scene("s2-point-central", t_end, **{"method.name": "dop853", "method.h": None, "method.rtol": 1e-10, "method.atol": 1e-10})
-    g = fd.gali(sc, k=2, threshold=1e-300, quotient=True)
+    sc = scene("s2-point-central", t_end, **{"method.name": "dop853", "method.h": None, "method.rtol": tol, "method.atol": tol})
+    g = fd.gali(sc, k=2, threshold=1e-300, quotient=True, fourth_order=fourth_order)
     rows = []
     t = 10.0 ** 2.5
     while t <= t_end * (1 + 1e-12):
@@ -1179,8 +1180,10 @@ def leveling(t_end, data):
             row["slope_over_the_decade_to_t"] = float("nan")
         rows.append(row)
         t *= 10.0 ** 0.5
-    write(os.path.join(data, "integrability_leveling.csv"), rows)
-    print(f"\nGALI₂ (phase space) of V = r²/2 on S² (s2-point-central), DOP853 tol 1e-10, T = {t_end:g}, {g.steps} steps:\n")
+    suffix = ("" if tol == 1e-10 else f"_tol{tol:g}") + ("_fourth_order" if fourth_order else "")
+    write(os.path.join(data, f"integrability_leveling{suffix}.csv"), rows)
+    lin = "fourth-order" if fourth_order else "second-order"
+    print(f"\nGALI₂ (phase space) of V = r²/2 on S² (s2-point-central), DOP853 tol {tol:g}, {lin} differences, T = {t_end:g}, {g.steps} steps:\n")
     print("| t | mean log10 GALI₂ over [t/2, t] | slope over the decade to t |")
     print("|---|---|---|")
     for r in rows:
@@ -1207,6 +1210,8 @@ def main():
     ap.add_argument("--params-only", action="store_true", help="the maps over parameters only (the affine body's J anisotropy, the gyroscope's tilt)")
     ap.add_argument("--degeneracy-only", action="store_true", help="the GALI table of maximal degeneracy only (central potentials, phase space against stored state)")
     ap.add_argument("--leveling", type=float, metavar="T", help="GALI₂ of V = r²/2 on S² to T (e.g. 1e7: about 25 minutes), per decade, and stop")
+    ap.add_argument("--leveling-tol", type=float, default=1e-10, help="DOP853 tolerance of --leveling (default 1e-10)")
+    ap.add_argument("--leveling-fourth-order", action="store_true", help="--leveling with fourth-order differences for the tangent maps")
     ap.add_argument("--floor-scenes", metavar="DIR", help="write the floor check's orbits as scene files (JSON) into DIR and stop")
     ap.add_argument("--workers", type=int, default=2, help="worker processes for the sections (1 or 2); the maps run on the Rust threads of fd.chaos_map")
     args = ap.parse_args()
@@ -1229,7 +1234,7 @@ def main():
         print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
         return
     if args.leveling:
-        leveling(args.leveling, data)
+        leveling(args.leveling, data, args.leveling_tol, args.leveling_fourth_order)
         print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
         return
     if args.degeneracy_only:
