@@ -347,10 +347,9 @@ impl<S: Observe> DynEngine for Engine<S> {
             Built::Group(m) => m.step(sys, self.t, &self.y, h, StepRequest::plain()).map_err(|f| solve::fault_error(f, self.t, h))?.y,
             Built::Chart(m) => self.chart(m)?.step(sys, m, self.t, &self.y, h)?,
         };
-        self.y = match projection {
-            Projection::None => y,
-            Projection::Energy => project_energy(sys, &y, sys.energy(self.problem.y0()), &mut Stats::default()),
-            Projection::Level(e) => project_energy(sys, &y, e, &mut Stats::default()),
+        self.y = match projection.level(|| sys.energy(self.problem.y0())) {
+            Some(e0) => project_energy(sys, &y, e0, &mut Stats::default()),
+            None => y,
         };
         self.t += h;
         Ok(())
@@ -376,10 +375,7 @@ impl<S: Observe> DynEngine for Engine<S> {
         };
         let t_end = self.t + h * n as f64;
         // Back to the scene's initial energy, not to that of this call's start.
-        let projection = match projection {
-            Projection::Energy => Projection::Level(self.problem.system().energy(self.problem.y0())),
-            other => other,
-        };
+        let projection = projection.level(|| self.problem.system().energy(self.problem.y0())).map_or(Projection::None, Projection::Level);
         let settings = Settings { step: StepSize::Fixed(h.abs()), save: Save::Ends, dense: false, max_steps: n, event_xtol: 0.0, projection };
         let mut events: &[Event<S::State>] = &[];
         let mut control = Control { cancel: Some(cancel), progress: None };

@@ -529,11 +529,7 @@ where
         super::problem::check_state(&self.y)?;
         validate::<S::State>(self.set, &self.info, self.t0, self.t_end)?;
         self.method.check(self.sys).map_err(SolveError::from)?;
-        self.e_ref = match self.set.projection {
-            Projection::None => None,
-            Projection::Energy => Some(self.sys.energy(&self.y)),
-            Projection::Level(e) => Some(e),
-        };
+        self.e_ref = self.set.projection.level(|| self.sys.energy(&self.y));
         if let Some(e0) = self.e_ref.filter(|e| !e.is_finite()) {
             return Err(SolveError::InvalidOptions {
                 reason: format!("projection = \"energy\" needs a finite energy level; it is {e0} (the energy at t0, or the level given)"),

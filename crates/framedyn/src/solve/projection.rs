@@ -88,6 +88,17 @@ impl Projection {
             Projection::Energy | Projection::Level(_) => "energy",
         }
     }
+
+    /// The energy level projected onto: `None` for [`Projection::None`],
+    /// `start()` (the energy of the state a run starts from) for
+    /// [`Projection::Energy`], the given value for [`Projection::Level`].
+    pub fn level(self, start: impl FnOnce() -> f64) -> Option<f64> {
+        match self {
+            Projection::None => None,
+            Projection::Energy => Some(start()),
+            Projection::Level(e) => Some(e),
+        }
+    }
 }
 
 /// Simplified Newton steps per projection. With a forward-difference
@@ -117,11 +128,8 @@ const GRADIENT_STEP: f64 = 1e-7;
 /// 1.29 × on the S³ gyroscope (15 coordinates), measured by
 /// `FRAMEDYN_RATIOS_ONLY=1 FRAMEDYN_RATIOS_FILTER=project_energy cargo bench
 /// -p framedyn-tests --bench step_cost`. The gradient is taken afresh at
-/// every step. Reusing the last step's direction while its Newton steps
-/// converge was tried: the correction then leaves the least-norm direction
-/// by the angle the state has turned (RK4 on the oscillator at h = 0.2:
-/// error 2.73e-4 against 2.63e-4), and a convergence test loose enough to
-/// save gradients near a Kepler pericentre left the energy 1e-10 off.
+/// every step: a direction kept from an earlier step would move the state
+/// off the least-norm direction by the angle the state has turned since.
 pub fn project_energy<S>(sys: &S, y: &S::State, e0: f64, stats: &mut Stats) -> S::State
 where
     S: System,
