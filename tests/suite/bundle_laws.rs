@@ -168,6 +168,24 @@ pub fn check_bundle_at<B: FrameBundle<N, E>, const N: usize, const E: usize>(
             1e-7,
         )?;
     }
+    // Derivatives along a generic direction η of the group (every
+    // coordinate non-zero): the lift's, the curvature's and the frame
+    // velocity's, against central differences along g·exp(±sη).
+    let coords: Vec<f64> = (0..<B::Group as LieGroup>::DOF).map(|i| 0.3 + 0.17 * i as f64 * if i % 2 == 0 { 1.0 } else { -1.0 }).collect();
+    let eta = <B::Group as LieGroup>::algebra_from_coords(&coords);
+    let s = 1e-4 / (1.0 + eta.amax());
+    let (gp, gm) = (g.compose(&<B::Group as LieGroup>::exp(&(eta * s))), g.compose(&<B::Group as LieGroup>::exp(&(eta * -s))));
+    let lift_fd = (b.horizontal_lift(&gp, v) - b.horizontal_lift(&gm, v)) * (1.0 / (2.0 * s));
+    let lift_exact = b.lift_derivative(&g, v, &eta);
+    check("lift_derivative = FD", (lift_exact - lift_fd).amax() / (1.0 + v.amax() * (1.0 + b.horizontal_lift(&g, v).amax())), 1e-7)?;
+    let k_fd = (b.curvature_at(&gp) - b.curvature_at(&gm)) / (2.0 * s);
+    check("curvature_derivative = FD", (b.curvature_derivative(&g, &eta) - k_fd).abs() / (1.0 + b.curvature_at(&g).abs()), 1e-7)?;
+    let ((xp, qp), (xm, qm)) = (b.frame_velocity(&gp, &xi), b.frame_velocity(&gm, &xi));
+    let (dx_exact, dq_exact) = b.frame_velocity_derivative(&g, &xi, &eta);
+    let scale = qsize * qsize * (1.0 + v.amax()) * (1.0 + eta.amax());
+    check("frame_velocity_derivative (point) = FD", (dx_exact - (xp - xm) / (2.0 * s)).amax() / scale, 1e-7)?;
+    check("frame_velocity_derivative (frame) = FD", (dq_exact - (qp - qm) / (2.0 * s)).amax() / scale, 1e-7)?;
+
     // Vertical: point fixed, q̇ = q w.
     let mut w = SMatrix::<f64, N, N>::zeros();
     for i in 0..N {

@@ -124,6 +124,9 @@ pub struct GaliEstimate {
     pub steps: usize,
     /// Steps of the method per step (1 + `k` × the difference steps of a column).
     pub steps_per_step: usize,
+    /// The linearisation used, [`resolve`](Linearisation::resolve)d:
+    /// `exact` tells whether the tangent maps were exact or differenced.
+    pub linearisation: Linearisation,
     /// The dimension of the space the vectors live in: the state group's
     /// `DOF`, less the gauge directions taken out
     /// ([`GaliOptions::quotient`]).
@@ -150,6 +153,7 @@ where
         return Err(AnalysisError::invalid("threshold", opts.threshold, "≥ 1e-300 and < 1"));
     }
     opts.linearisation.validate()?;
+    let lin = opts.linearisation.resolve(system, method, t0, y0);
     let k = opts.k;
     let mut q = space.random_frame(k, opts.seed, t0)?;
     let mut r = DMatrix::<f64>::identity(k, k);
@@ -158,7 +162,7 @@ where
     let mut log10 = 0.0;
     let mut below_at = None;
     let walked = walk(system, method, t0, y0, &opts.step, opts.duration, opts.max_steps, cancel, |s| {
-        tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut q, &opts.linearisation)?;
+        tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut q, &lin)?;
         space.project(system, s.y1, s.t1, &mut q)?;
         let rs = super::lyapunov::orthonormalise(&mut q, s.t1)?;
         r = rs * &r;
@@ -187,7 +191,8 @@ where
         times,
         running_log10,
         steps: walked.steps,
-        steps_per_step: 1 + k * opts.linearisation.steps_per_column(),
+        steps_per_step: 1 + k * lin.steps_per_column(),
+        linearisation: lin,
         dimension,
     })
 }

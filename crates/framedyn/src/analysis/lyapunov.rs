@@ -147,8 +147,12 @@ pub struct LyapunovEstimate {
     pub running: Vec<Vec<f64>>,
     /// Steps taken.
     pub steps: usize,
-    /// Steps of the method per step (1 + tangent columns × difference steps).
+    /// Steps of the method per step (1 + tangent columns × steps per column,
+    /// [`Linearisation::steps_per_column`]).
     pub steps_per_step: usize,
+    /// The linearisation used, [`resolve`](Linearisation::resolve)d:
+    /// `exact` tells whether the tangent maps were exact or differenced.
+    pub linearisation: Linearisation,
     /// The dimension of the space the tangent vectors live in: the state
     /// group's `DOF`, less the gauge directions taken out
     /// ([`LyapunovOptions::quotient`]).
@@ -290,6 +294,7 @@ where
     let n = opts.steps(S::State::DOF)?;
     super::check_start(t0, y0)?;
     let space = Space::at_start(system, y0, t0, opts.quotient)?;
+    let lin = opts.linearisation.resolve(system, method, t0, y0);
     let dimension = space.dimension;
     if opts.exponents > dimension {
         return Err(AnalysisError::invalid("exponents", opts.exponents, format!("between 1 and {dimension} ({})", space.describe())));
@@ -299,7 +304,7 @@ where
     let stride = n.map(|n| history_stride(n, opts.renormalise_every));
     let mut acc = (opts.transient == 0.0).then(|| Accumulator::new(opts.exponents, t0, stride));
     let walked = walk(system, method, t0, y0, &opts.step, opts.duration, opts.max_steps, cancel, |s| {
-        tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut cols, &opts.linearisation)?;
+        tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut cols, &lin)?;
         space.project(system, s.y1, s.t1, &mut cols)?;
         if s.index % opts.renormalise_every == 0 || s.last {
             let r = orthonormalise(&mut cols, s.t1)?.diagonal();
@@ -314,7 +319,7 @@ where
     let acc = acc.ok_or_else(|| AnalysisError::invalid("transient", opts.transient, "shorter than the run"))?;
     check_batches(&acc, opts.duration, opts.batches, opts.renormalise_every)?;
     let (exponents, stderr, spread, times, running) = acc.finish(opts.batches);
-    Ok(LyapunovEstimate { exponents, stderr, spread, times, running, steps: walked.steps, steps_per_step: 1 + opts.exponents * opts.linearisation.steps_per_column(), dimension })
+    Ok(LyapunovEstimate { exponents, stderr, spread, times, running, steps: walked.steps, steps_per_step: 1 + opts.exponents * lin.steps_per_column(), linearisation: lin, dimension })
 }
 
 /// Settings of [`two_trajectory`].

@@ -91,6 +91,9 @@ pub struct MegnoEstimate {
     pub steps: usize,
     /// Steps of the method per step (1 + the difference steps of one column).
     pub steps_per_step: usize,
+    /// The linearisation used, [`resolve`](Linearisation::resolve)d:
+    /// `exact` tells whether the tangent maps were exact or differenced.
+    pub linearisation: Linearisation,
 }
 
 /// The MEGNO of the trajectory of `method` from `(t0, y0)` with one tangent
@@ -105,6 +108,7 @@ where
     let n = plan(&opts.step, opts.duration, opts.max_steps)?;
     opts.linearisation.validate()?;
     super::check_start(t0, y0)?;
+    let lin = opts.linearisation.resolve(system, method, t0, y0);
     let mut col = super::lyapunov::random_frame(S::State::DOF, 1, opts.seed);
     let mut history = n.map_or_else(History::growing, |n| History::every(super::lyapunov::history_stride(n, 1)));
     // Σ t_k log|δ_k/δ_{k−1}|, Σ h Y(t_k), log|δ_k/δ_0| (t_k from t₀).
@@ -117,7 +121,7 @@ where
     };
     let (mut fit_n, mut st, mut stt, mut sy, mut sty) = (0.0, 0.0, 0.0, 0.0, 0.0);
     let walked = walk(system, method, t0, y0, &opts.step, opts.duration, opts.max_steps, cancel, |step| {
-        tangent_images(system, method, step.t0, step.y0, step.y1, step.h, &mut col, &opts.linearisation)?;
+        tangent_images(system, method, step.t0, step.y0, step.y1, step.h, &mut col, &lin)?;
         let norm = col.column(0).norm();
         if !(norm.is_finite() && norm > 0.0) {
             return Err(AnalysisError::Degenerate { column: 0, t: step.t1, norm });
@@ -155,6 +159,7 @@ where
         running_megno,
         running_mean,
         steps: walked.steps,
-        steps_per_step: 1 + opts.linearisation.steps_per_column(),
+        steps_per_step: 1 + lin.steps_per_column(),
+        linearisation: lin,
     })
 }

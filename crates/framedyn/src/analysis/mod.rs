@@ -20,15 +20,35 @@
 //! symplectic map, so its spectrum pairs exactly), and it converges to the
 //! exact tangent flow at the method's order.
 //!
-//! The models are `f64`-only (the potentials alone are written over dual
-//! numbers), so the derivative is taken by a central difference of `Φ_h`
-//! along each tangent column, with step `ε` in the algebra
+//! **Exact tangent maps.** Where the system has the exact derivative of its
+//! vector field ([`System::tangent_field`](crate::dynamics::System::tangent_field):
+//! the point, the n = 2 gyroscope and the S³ gyroscope on every manifold, in
+//! potentials written over dual numbers) and the method is a Lie-group
+//! Runge–Kutta method or the implicit midpoint rule
+//! ([`Method::tangent_step`](crate::method::Method::tangent_step)), the
+//! method steps the tangent lift [`Linearised`](crate::dynamics::Linearised)
+//! on the tangent group [`Tangent`](crate::lie::Tangent) — the group over
+//! dual numbers — and so returns the exact derivative of its own one-step
+//! map, to round-off: one step of the lift per column (about twice a plain
+//! step's work). The derivative of the vector field is in closed form (the
+//! bundles' [`lift_derivative`](crate::bundle::FrameBundle::lift_derivative),
+//! [`curvature_derivative`](crate::bundle::FrameBundle::curvature_derivative),
+//! [`frame_velocity_derivative`](crate::bundle::FrameBundle::frame_velocity_derivative)),
+//! with the potential's second derivatives by nested automatic
+//! differentiation ([`gradient_derivative`](crate::potential::gradient_derivative)).
+//!
+//! **Differenced tangent maps.** Elsewhere — the splittings (their exact
+//! free flows are not lifted), the affine bodies, potentials given as `f64`
+//! closures (no second derivatives) — and on request
+//! ([`Linearisation::differenced`]), the derivative is a central difference
+//! of `Φ_h` along each tangent column, with step `ε` in the algebra
 //! ([`Linearisation`]): second order by default (`2` steps per column,
 //! truncation `O(ε²)·h`, round-off `O(u/ε)`, about `1e-10` relative at the
 //! default `ε = 1e-5`), fourth order on request (`4` steps per column,
-//! `1e-12`). A column costs `2` (or `4`) steps of the method per step, so
-//! the full spectrum of a `DOF`-dimensional state costs `1 + 2·DOF` steps
-//! per step; a run that asks for no tangents never enters this module.
+//! `1e-12`). Over ~10⁷ steps this per-step error becomes visible
+//! (docs/integrability.md, the leveling of GALI₂ on `V = r²/2`). Each
+//! estimate reports which was used (its `linearisation`, resolved); a run
+//! that asks for no tangents never enters this module.
 //!
 //! # Steps: fixed or error-controlled
 //!

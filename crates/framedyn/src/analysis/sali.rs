@@ -69,6 +69,9 @@ pub struct SaliEstimate {
     pub min: f64,
     /// Steps taken.
     pub steps: usize,
+    /// The linearisation used, [`resolve`](Linearisation::resolve)d:
+    /// `exact` tells whether the tangent maps were exact or differenced.
+    pub linearisation: Linearisation,
 }
 
 /// The SALI of the trajectory of `method` from `(t0, y0)`. `cancel` is
@@ -85,6 +88,7 @@ where
     }
     opts.linearisation.validate()?;
     super::check_start(t0, y0)?;
+    let lin = opts.linearisation.resolve(system, method, t0, y0);
     let dof = S::State::DOF;
     if dof < 2 {
         return Err(AnalysisError::invalid("state", format!("a {dof}-dimensional state group"), "at least 2 dimensions"));
@@ -97,7 +101,7 @@ where
     let mut min = f64::INFINITY;
     let mut chaotic_at = None;
     let walked = walk(system, method, t0, y0, &opts.step, opts.duration, opts.max_steps, cancel, |s| {
-        tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut cols, &opts.linearisation)?;
+        tangent_images(system, method, s.t0, s.y0, s.y1, s.h, &mut cols, &lin)?;
         index = pair.advance(&mut cols, s.t1)?;
         min = min.min(index);
         if index < opts.threshold {
@@ -106,7 +110,7 @@ where
         }
         Ok(Next::Go)
     })?;
-    Ok(SaliEstimate { sali: index, chaotic_at, min, steps: walked.steps })
+    Ok(SaliEstimate { sali: index, chaotic_at, min, steps: walked.steps, linearisation: lin })
 }
 
 /// The two deviation vectors as `u₁` and their difference `d = u₁ − u₂`

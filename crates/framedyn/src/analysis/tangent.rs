@@ -5,7 +5,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::AnalysisError;
 use crate::dynamics::System;
-use crate::lie::LieGroup;
+use crate::lie::{AlgebraVector, LieGroup};
 use crate::method::{GroupNumerics, Method, StepRequest};
 use crate::solve::{fault_error, StepSize};
 
@@ -20,22 +20,30 @@ pub enum Difference {
     Central4,
 }
 
-/// How the one-step map is linearised: the difference formula and the
-/// perturbation size `ε` (algebra units: radians for rotations, the state's
-/// own units for the additive components).
+/// How the one-step map is linearised: exactly, on the tangent group, where
+/// the system and the method allow it ([`exact`](Self::exact)); else by the
+/// difference formula with the perturbation size `ε` (algebra units:
+/// radians for rotations, the state's own units for the additive
+/// components).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Linearisation {
-    /// The difference formula.
+    /// The difference formula (where the tangent map is differenced).
     pub difference: Difference,
     /// The perturbation size, [`MIN_EPS`](Self::MIN_EPS) `≤ ε ≤ 0.1`.
     pub eps: f64,
+    /// Use the exact tangent map where it exists: the system has a
+    /// [`tangent_field`](System::tangent_field) and the method a
+    /// [`tangent_step`](Method::tangent_step). `false` differences every
+    /// step (for comparison).
+    pub exact: bool,
 }
 
 impl Default for Linearisation {
-    /// Second-order central differences with `ε = 1e-5`: truncation `~ε²h`
-    /// and round-off `~1e-16/ε`, about `1e-10` relative per step.
+    /// Exact where available; else second-order central differences with
+    /// `ε = 1e-5`: truncation `~ε²h` and round-off `~1e-16/ε`, about
+    /// `1e-10` relative per step.
     fn default() -> Self {
-        Linearisation { difference: Difference::Central2, eps: 1e-5 }
+        Linearisation { difference: Difference::Central2, eps: 1e-5, exact: true }
     }
 }
 
@@ -49,7 +57,23 @@ impl Linearisation {
     /// Fourth-order central differences with `ε = 1e-3` (about `1e-12`
     /// relative per step, twice the cost of the default).
     pub fn fourth_order() -> Self {
-        Linearisation { difference: Difference::Central4, eps: 1e-3 }
+        Linearisation { difference: Difference::Central4, eps: 1e-3, exact: true }
+    }
+
+    /// The same differences, used even where the exact tangent map exists.
+    pub fn differenced(self) -> Self {
+        Linearisation { exact: false, ..self }
+    }
+
+    /// What is used for `system` and `method` from `(t0, y0)`: `exact`
+    /// stays true only if both have the exact tangent map.
+    pub fn resolve<S, M>(&self, system: &S, method: &M, t0: f64, y0: &S::State) -> Linearisation
+    where
+        S: System,
+        S::State: GroupNumerics,
+        M: Method<S>,
+    {
+        Linearisation { exact: self.exact && exact_tangents(system, method, t0, y0), ..*self }
     }
 
     /// [`fourth_order`](Self::fourth_order) if `fourth_order`, else the
@@ -72,13 +96,42 @@ impl Linearisation {
         Ok(())
     }
 
-    /// Steps of the method per tangent column and step.
+    /// Steps of the method per tangent column and step: 1 step of the
+    /// tangent lift (about twice a plain step's cost) where exact, else the
+    /// difference formula's 2 or 4 (as [`resolve`](Self::resolve)d).
     pub fn steps_per_column(&self) -> usize {
-        match self.difference {
-            Difference::Central2 => 2,
-            Difference::Central4 => 4,
+        match (self.exact, self.difference) {
+            (true, _) => 1,
+            (false, Difference::Central2) => 2,
+            (false, Difference::Central4) => 4,
         }
     }
+
+    /// How the tangent maps are taken, in words (the CLI's summaries).
+    pub fn describe(&self) -> String {
+        if self.exact {
+            "exact (the method on the tangent group)".to_string()
+        } else {
+            let order = match self.difference {
+                Difference::Central2 => 2,
+                Difference::Central4 => 4,
+            };
+            format!("central differences of order {order}, eps = {:e}", self.eps)
+        }
+    }
+}
+
+/// True if `system` has an exact [`tangent_field`](System::tangent_field)
+/// at `(t0, y0)` and `method` a [`tangent_step`](Method::tangent_step) for
+/// it (asked with a step of size 0).
+pub fn exact_tangents<S, M>(system: &S, method: &M, t0: f64, y0: &S::State) -> bool
+where
+    S: System,
+    S::State: GroupNumerics,
+    M: Method<S>,
+{
+    let zero = <<S::State as LieGroup>::Algebra as AlgebraVector>::zero();
+    system.tangent_field(t0, y0, &zero).is_some() && matches!(method.tangent_step(system, t0, y0, 0.0, &zero), Some(Ok(_)))
 }
 
 /// The state `y₀·exp(ξ)` for algebra coordinates `ξ`.
@@ -119,6 +172,9 @@ where
     S::State: GroupNumerics,
     M: Method<S>,
 {
+    if lin.exact {
+        return exact_images(system, method, t, y0, h, cols);
+    }
     let step = |y: &S::State| method.step(system, t, y, h, StepRequest::plain()).map(|o| o.y).map_err(|f| AnalysisError::Solve(fault_error(f, t, h)));
     let y1_inv = y1.inverse();
     let mut xi = vec![0.0; S::State::DOF];
@@ -144,6 +200,38 @@ where
             }
         };
         cols.set_column(j, &d);
+    }
+    Ok(())
+}
+
+/// [`tangent_images`] by the method's exact tangent map: one step of the
+/// tangent lift per column. The tangent map is linear, so a column is
+/// stepped at unit length and scaled back (its size does not reach the
+/// vector field's derivative, only the result's).
+fn exact_images<S, M>(system: &S, method: &M, t: f64, y0: &S::State, h: f64, cols: &mut DMatrix<f64>) -> Result<(), AnalysisError>
+where
+    S: System,
+    S::State: GroupNumerics,
+    M: Method<S>,
+{
+    let mut c = vec![0.0; S::State::DOF];
+    for j in 0..cols.ncols() {
+        let n = cols.column(j).norm();
+        if n == 0.0 {
+            continue;
+        }
+        for (x, v) in c.iter_mut().zip(cols.column(j).iter()) {
+            *x = v / n;
+        }
+        let xi0 = <S::State as LieGroup>::algebra_from_coords(&c);
+        let (_, xi1) = match method.tangent_step(system, t, y0, h, &xi0) {
+            Some(r) => r.map_err(|f| AnalysisError::Solve(fault_error(f, t, h)))?,
+            None => return Err(AnalysisError::invalid("linearisation", "exact", "differenced: the method has no exact tangent map")),
+        };
+        let image = <S::State as LieGroup>::algebra_coords(&xi1);
+        for (i, v) in image.iter().enumerate() {
+            cols[(i, j)] = v * n;
+        }
     }
     Ok(())
 }
@@ -177,6 +265,7 @@ where
         if cols.iter().any(|x| !x.is_finite()) {
             return Err(AnalysisError::invalid("columns", "(a non-finite entry)", "finite"));
         }
+        let lin = lin.resolve(system, method, t0, &y0);
         Ok(TangentFlow { system, method, lin, t: t0, y: y0, cols })
     }
 
@@ -193,6 +282,11 @@ where
         Ok(())
     }
 
+    /// The linearisation used, [`resolve`](Linearisation::resolve)d for the
+    /// system and the method (`exact` tells whether the tangent maps are exact).
+    pub fn linearisation(&self) -> &Linearisation {
+        &self.lin
+    }
     /// Current time.
     pub fn t(&self) -> f64 {
         self.t
@@ -245,6 +339,7 @@ where
     lin.validate()?;
     super::check_start(t0, y0)?;
     super::walk::plan(step, duration, super::MAX_STEPS)?;
+    let lin = &lin.resolve(system, method, t0, y0);
     let dof = S::State::DOF;
     let mut cols = DMatrix::identity(dof, dof);
     let mut y = *y0;

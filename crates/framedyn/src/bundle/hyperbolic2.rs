@@ -156,6 +156,22 @@ impl FrameBundle<2, 3> for Hyperbolic2 {
         self.curvature()
     }
 
+    /// Zero: the lift does not depend on `g`.
+    fn lift_derivative(&self, _g: &So12, _u: &SVector<f64, 2>, _eta: &SVector<f64, 3>) -> SVector<f64, 3> {
+        SVector::<f64, 3>::zeros()
+    }
+
+    /// Zero: constant curvature.
+    fn curvature_derivative(&self, _g: &So12, _eta: &SVector<f64, 3>) -> f64 {
+        0.0
+    }
+
+    /// `Λ·hat(η)·hat(ξ)`, read as in [`frame_velocity`](FrameBundle::frame_velocity).
+    fn frame_velocity_derivative(&self, g: &So12, xi: &SVector<f64, 3>, eta: &SVector<f64, 3>) -> (SVector<f64, 3>, SMatrix<f64, 3, 2>) {
+        let m = g.matrix() * So12::hat(eta) * So12::hat(xi);
+        (m.column(2) * self.radius(), m.fixed_columns::<2>(0).into_owned())
+    }
+
     /// Constant curvature: exact free flows.
     fn exact_free_flow(&self) -> bool {
         true

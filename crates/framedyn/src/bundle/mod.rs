@@ -82,6 +82,26 @@ pub trait FrameBundle<const N: usize, const E: usize>: Manifold<N, E> {
     /// all the spin–curvature force of (a59) needs.
     fn curvature_at(&self, g: &Self::Group) -> f64;
 
+    /// `d/ds horizontal_lift(g·exp(sη), u)|_{s=0}` for fixed `u`: how the
+    /// lift changes with the bundle element (zero where it does not depend
+    /// on it: S², H², S³). With [`frame_velocity`](Self::frame_velocity) at
+    /// `η` (the first derivatives of the point and the frame) and the two
+    /// methods below, what the exact derivatives of the vector fields need
+    /// ([`System::tangent_field`](crate::dynamics::System::tangent_field)).
+    fn lift_derivative(&self, g: &Self::Group, u: &SVector<f64, N>, eta: &<Self::Group as LieGroup>::Algebra) -> <Self::Group as LieGroup>::Algebra;
+
+    /// `d/ds curvature_at(g·exp(sη))|_{s=0}` (zero for constant curvature).
+    fn curvature_derivative(&self, g: &Self::Group, eta: &<Self::Group as LieGroup>::Algebra) -> f64;
+
+    /// `d/ds frame_velocity(g·exp(sη), ξ)|_{s=0}` for fixed `ξ`: second
+    /// derivatives of the point and of the frame vectors.
+    fn frame_velocity_derivative(
+        &self,
+        g: &Self::Group,
+        xi: &<Self::Group as LieGroup>::Algebra,
+        eta: &<Self::Group as LieGroup>::Algebra,
+    ) -> (SVector<f64, E>, SMatrix<f64, E, N>);
+
     /// True if the horizontal lift and the vertical generator do not depend
     /// on the bundle element and are equivariant,
     /// `Ad_{exp(τ·vertical(w))} horizontal_lift(u) = horizontal_lift(exp(τw)u)`:

@@ -138,6 +138,22 @@ impl FrameBundle<2, 3> for Sphere2 {
         self.curvature()
     }
 
+    /// Zero: the lift does not depend on `g`.
+    fn lift_derivative(&self, _g: &So3, _u: &Vector2<f64>, _eta: &Vector3<f64>) -> Vector3<f64> {
+        Vector3::zeros()
+    }
+
+    /// Zero: constant curvature.
+    fn curvature_derivative(&self, _g: &So3, _eta: &Vector3<f64>) -> f64 {
+        0.0
+    }
+
+    /// `Q·hat(η)·hat(ξ)`, read as in [`frame_velocity`](FrameBundle::frame_velocity).
+    fn frame_velocity_derivative(&self, g: &So3, xi: &Vector3<f64>, eta: &Vector3<f64>) -> (Vector3<f64>, Matrix3x2<f64>) {
+        let m = g.matrix() * So3::hat(eta) * So3::hat(xi);
+        (m.column(0) * self.radius(), m.fixed_columns::<2>(1).into_owned())
+    }
+
     /// Constant curvature: exact free flows.
     fn exact_free_flow(&self) -> bool {
         true

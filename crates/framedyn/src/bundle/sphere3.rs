@@ -151,6 +151,22 @@ impl FrameBundle<3, 4> for Sphere3 {
         self.inv_radius() * self.inv_radius()
     }
 
+    /// Zero: the lift does not depend on `g`.
+    fn lift_derivative(&self, _g: &So4, _u: &Vector3<f64>, _eta: &So4Algebra) -> So4Algebra {
+        So4Algebra::zeros()
+    }
+
+    /// Zero: constant curvature.
+    fn curvature_derivative(&self, _g: &So4, _eta: &So4Algebra) -> f64 {
+        0.0
+    }
+
+    /// `Q·hat(η)·hat(ξ)`, read as in [`frame_velocity`](FrameBundle::frame_velocity).
+    fn frame_velocity_derivative(&self, g: &So4, xi: &So4Algebra, eta: &So4Algebra) -> (Vector4<f64>, Matrix4x3<f64>) {
+        let m = g.matrix() * So4::hat(eta) * So4::hat(xi);
+        (m.column(0) * self.radius(), m.fixed_columns::<3>(1).into_owned())
+    }
+
     /// Constant curvature: exact free flows.
     fn exact_free_flow(&self) -> bool {
         true

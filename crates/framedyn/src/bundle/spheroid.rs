@@ -234,4 +234,63 @@ impl FrameBundle<2, 3> for Spheroid {
         let kc = w2 / self.polar_radius();
         kc * kc
     }
+
+    /// The derivative of `(0, −w₂, w₁)`, `w = (W/a)(u + (k⁻² − 1) q_z (q_z·u))`,
+    /// along `δQ = Q·hat(η)`: `δ(W/a) = δW²/(2aW)`,
+    /// `δW² = 2(n_x δn_x + n_y δn_y + k² n_z δn_z)`.
+    fn lift_derivative(&self, g: &So3, u: &Vector2<f64>, eta: &Vector3<f64>) -> Vector3<f64> {
+        let q = g.matrix();
+        let dq = q * So3::hat(eta);
+        let n: Vector3<f64> = q.column(0).into();
+        let dn: Vector3<f64> = dq.column(0).into();
+        let w2 = self.w2_of_normal(&n);
+        let w = w2.sqrt();
+        let dw2 = 2.0 * (n[0] * dn[0] + n[1] * dn[1] + self.axis_ratio_squared() * n[2] * dn[2]);
+        let a = self.equatorial_radius();
+        let (scale, dscale) = (w / a, dw2 / (2.0 * a * w));
+        let kappa = self.inv_k2_minus_one();
+        let qz = Vector2::new(q[(2, 1)], q[(2, 2)]);
+        let dqz = Vector2::new(dq[(2, 1)], dq[(2, 2)]);
+        let base = u + qz * (kappa * qz.dot(u));
+        let dw = base * dscale + (dqz * qz.dot(u) + qz * dqz.dot(u)) * (kappa * scale);
+        Vector3::new(0.0, -dw[1], dw[0])
+    }
+
+    /// `δK = 2W² δW²/c²` along `δQ = Q·hat(η)`.
+    fn curvature_derivative(&self, g: &So3, eta: &Vector3<f64>) -> f64 {
+        let q = g.matrix();
+        let n: Vector3<f64> = q.column(0).into();
+        let dn: Vector3<f64> = (q * So3::hat(eta)).column(0).into();
+        let w2 = self.w2_of_normal(&n);
+        let dw2 = 2.0 * (n[0] * dn[0] + n[1] * dn[1] + self.axis_ratio_squared() * n[2] * dn[2]);
+        let c = self.polar_radius();
+        2.0 * w2 * dw2 / (c * c)
+    }
+
+    /// The derivative of [`frame_velocity`](FrameBundle::frame_velocity)
+    /// along `δQ = Q·hat(η)`: `δQ̇ = Q·hat(η)·hat(ξ)`, and the derivative of
+    /// `ẋ = (a/W)(Bṅ − Bn (nᵀBṅ)/W²)` in `n` and `ṅ`.
+    fn frame_velocity_derivative(&self, g: &So3, xi: &Vector3<f64>, eta: &Vector3<f64>) -> (Vector3<f64>, Matrix3x2<f64>) {
+        let q = g.matrix();
+        let qdot = q * So3::hat(xi);
+        let dq = q * So3::hat(eta);
+        let dqdot = dq * So3::hat(xi);
+        let k2 = self.axis_ratio_squared();
+        let b = |v: Vector3<f64>| Vector3::new(v[0], v[1], k2 * v[2]);
+        let n: Vector3<f64> = q.column(0).into();
+        let ndot: Vector3<f64> = qdot.column(0).into();
+        let dn: Vector3<f64> = dq.column(0).into();
+        let dndot: Vector3<f64> = dqdot.column(0).into();
+        let (bn, bndot) = (b(n), b(ndot));
+        let w2 = self.w2_of_normal(&n);
+        let dw2 = 2.0 * bn.dot(&dn);
+        let p = bn.dot(&ndot);
+        let dp = b(dn).dot(&ndot) + bn.dot(&dndot);
+        let v = bndot - bn * (p / w2);
+        let dv = b(dndot) - b(dn) * (p / w2) - bn * (dp / w2 - p * dw2 / (w2 * w2));
+        let a = self.equatorial_radius();
+        let c0 = a / w2.sqrt();
+        let dc0 = -c0 * dw2 / (2.0 * w2);
+        (v * dc0 + dv * c0, dqdot.fixed_columns::<2>(1).into_owned())
+    }
 }

@@ -191,4 +191,59 @@ impl FrameBundle<2, 3> for Torus2 {
     fn curvature_at(&self, g: &Rn<3>) -> f64 {
         self.gaussian_curvature(g.0[0])
     }
+
+    /// For `η = (δθ, δφ, δa)`: `δv = δa·ε v` (`U′(a) = εU(a)`),
+    /// `δρ = −R sin θ δθ`, `δφ̇ = (δv₂ − φ̇ δρ)/ρ`, and
+    /// `δξ = (δv₁/R, δφ̇, cos θ δθ φ̇ + sin θ δφ̇)`.
+    fn lift_derivative(&self, g: &Rn<3>, u: &SVector<f64, 2>, eta: &SVector<f64, 3>) -> SVector<f64, 3> {
+        let (theta, a) = (g.0[0], g.0[2]);
+        let v = rot(a) * u;
+        let dv = SVector::<f64, 2>::new(-v[1], v[0]) * eta[2];
+        let (st, ct) = theta.sin_cos();
+        let rho = self.rho(theta);
+        let phidot = v[1] / rho;
+        let drho = -self.small_r() * st * eta[0];
+        let dphidot = (dv[1] - phidot * drho) / rho;
+        SVector::<f64, 3>::new(dv[0] / self.small_r(), dphidot, ct * eta[0] * phidot + st * dphidot)
+    }
+
+    /// `dK/dθ·δθ = −L sin θ/(R ρ²)·δθ`, `ρ = L + R cos θ`.
+    fn curvature_derivative(&self, g: &Rn<3>, eta: &SVector<f64, 3>) -> f64 {
+        let theta = g.0[0];
+        let rho = self.rho(theta);
+        -self.big_l() * theta.sin() / (self.small_r() * rho * rho) * eta[0]
+    }
+
+    /// The derivative of [`frame_velocity`](FrameBundle::frame_velocity)'s
+    /// formulas in `(θ, φ, a)` along `η = (δθ, δφ, δa)`, with
+    /// `δÊ_θ = −n δθ − sin θ Ê_φ δφ`, `δÊ_φ = P δφ` (`P = (−cos φ, −sin φ, 0)`,
+    /// `δP = −Ê_φ δφ`), `δn = Ê_θ δθ + cos θ Ê_φ δφ`.
+    fn frame_velocity_derivative(&self, g: &Rn<3>, xi: &SVector<f64, 3>, eta: &SVector<f64, 3>) -> (SVector<f64, 3>, SMatrix<f64, 3, 2>) {
+        let (theta, phi, a) = (g.0[0], g.0[1], g.0[2]);
+        let (td, pd, ad) = (xi[0], xi[1], xi[2]);
+        let (dth, dph, da) = (eta[0], eta[1], eta[2]);
+        let (e, n) = frame_field(theta, phi);
+        let (et, ep): (SVector<f64, 3>, SVector<f64, 3>) = (e.column(0).into(), e.column(1).into());
+        let (st, ct) = theta.sin_cos();
+        let (sp, cp) = phi.sin_cos();
+        let (sa, ca) = a.sin_cos();
+        let r = self.small_r();
+        let p = SVector::<f64, 3>::new(-cp, -sp, 0.0);
+        let d_et_ = -n * dth - ep * (st * dph);
+        let d_ep_ = p * dph;
+        let d_n = et * dth + ep * (ct * dph);
+        let d_p = -ep * dph;
+        let dxdot = d_et_ * (r * td) + d_ep_ * (self.rho(theta) * pd) + ep * (-r * st * dth * pd);
+        // The frame's velocity terms and their derivatives.
+        let t_et = -n * td - ep * (st * pd);
+        let t_ep = p * pd;
+        let dt_et = -d_n * td - d_ep_ * (st * pd) - ep * (ct * dth * pd);
+        let dt_ep = d_p * pd;
+        let (q1, q2) = (et * ca + ep * sa, -et * sa + ep * ca);
+        let dq1_ = d_et_ * ca + d_ep_ * sa + q2 * da;
+        let dq2_ = -d_et_ * sa + d_ep_ * ca - q1 * da;
+        let ddq1 = dq2_ * ad + dt_et * ca + dt_ep * sa + (-t_et * sa + t_ep * ca) * da;
+        let ddq2 = -dq1_ * ad - dt_et * sa + dt_ep * ca + (-t_et * ca - t_ep * sa) * da;
+        (dxdot, SMatrix::<f64, 3, 2>::from_columns(&[ddq1, ddq2]))
+    }
 }

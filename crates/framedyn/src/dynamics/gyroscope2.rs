@@ -390,6 +390,32 @@ where
         ProductAlgebra(ProductAlgebra(xi, Vector1::new(self.rate * s)), Vector3::new(acc[0], acc[1], torque))
     }
 
+    /// The derivative along `((η, δα), (δu, δs))` (`ρ ↦ ρ·exp(δα ε)`):
+    /// `D_g lift(u)[η] + lift(δu)`, `σ δs/I`, the derivative of the
+    /// acceleration with `δ(Ks) = (D_g K[η]) s + K δs`, and of the torque
+    /// `−⟨∂V/∂ρ, ρε⟩` ([`force_derivative`](super::force_derivative)).
+    fn tangent_field(&self, t: f64, y: &Self::State, xi: &<Self::State as LieGroup>::Algebra) -> Option<super::FieldAndDerivative<Self::State>> {
+        if !self.potential.second_derivatives() {
+            return None;
+        }
+        let (g, rho) = (&y.0 .0, &y.0 .1);
+        let w = &y.1 .0;
+        let (u, s) = (Vector2::new(w[0], w[1]), w[2]);
+        let (eta, dalpha) = (&xi.0 .0, xi.0 .1[0]);
+        let dw = &xi.1;
+        let (du, ds) = (Vector2::new(dw[0], dw[1]), dw[2]);
+        let rm = rho.matrix();
+        let drm = rm * EPS * dalpha;
+        let d = super::force_derivative(&self.bundle, &self.potential, &self.metric, g, &rm, eta, &drm);
+        let k = self.bundle.curvature_at(g);
+        let dks = self.bundle.curvature_derivative(g, eta) * s + k * ds;
+        let ks = k * s;
+        let dacc = Vector2::new(d.d_force[0] - dks * u[1] - ks * du[1], d.d_force[1] + dks * u[0] + ks * du[0]) * self.inv_mass;
+        let dtorque = if self.potential.uses_frame() { -(d.d_internal.component_mul(&(rm * EPS)).sum() + d.internal.component_mul(&(drm * EPS)).sum()) } else { 0.0 };
+        let dlift = self.bundle.horizontal_lift(g, &du) + self.bundle.lift_derivative(g, &u, eta);
+        Some((self.vector_field(t, y), ProductAlgebra(ProductAlgebra(dlift, Vector1::new(self.rate * ds)), Vector3::new(dacc[0], dacc[1], dtorque))))
+    }
+
     /// `E = (m/2)|u|² + σ s²/(2I) + V(x, e)`.
     fn energy(&self, y: &Self::State) -> f64 {
         self.translational_energy(y) + self.internal_energy(y) + self.potential_energy(y)

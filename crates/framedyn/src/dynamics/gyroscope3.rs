@@ -426,6 +426,31 @@ where
         ProductAlgebra(ProductAlgebra(xi, omega), join(&acc, &torque))
     }
 
+    /// The derivative along `((η, δr), (δu, δπ))` (`ρ ↦ ρ·exp(hat δr)`):
+    /// `D_g lift(u)[η] + lift(δu)`, `δΩ = σ𝕀⁻¹(δρᵀπ + ρᵀδπ)`,
+    /// `δu̇ = (δπ × u K + π × δu K + π × u δK + δF̂)/m`, and the torque's
+    /// `−2 vee(δ(Gρᵀ))` ([`force_derivative`](super::force_derivative)).
+    fn tangent_field(&self, t: f64, y: &Self::State, xi: &<Self::State as LieGroup>::Algebra) -> Option<super::FieldAndDerivative<Self::State>> {
+        if !self.potential.second_derivatives() {
+            return None;
+        }
+        let (g, rm) = (&y.0 .0, y.0 .1.matrix());
+        let w = &y.1 .0;
+        let (u, pi) = (Vector3::new(w[0], w[1], w[2]), Vector3::new(w[3], w[4], w[5]));
+        let (eta, dr) = (&xi.0 .0, &xi.0 .1);
+        let dw = &xi.1;
+        let (du, dpi) = (Vector3::new(dw[0], dw[1], dw[2]), Vector3::new(dw[3], dw[4], dw[5]));
+        let drm = rm * So3::hat(dr);
+        let d = super::force_derivative(&self.bundle, &self.potential, &self.metric, g, rm, eta, &drm);
+        let domega = self.inv_inertia * (drm.transpose() * pi + rm.transpose() * dpi);
+        let k = self.bundle.curvature_at(g);
+        let dk = self.bundle.curvature_derivative(g, eta);
+        let dacc = ((dpi.cross(&u) + pi.cross(&du)) * k + pi.cross(&u) * dk + d.d_force) * self.inv_mass;
+        let dtorque = if self.frame_dependent { So3::vee(&(d.d_internal * rm.transpose() + d.internal * drm.transpose())) * -2.0 } else { Vector3::zeros() };
+        let dlift = self.bundle.horizontal_lift(g, &du) + self.bundle.lift_derivative(g, &u, eta);
+        Some((self.vector_field(t, y), ProductAlgebra(ProductAlgebra(dlift, domega), join(&dacc, &dtorque))))
+    }
+
     /// `E = (m/2)|u|² + ½ M·(σ𝕀)⁻¹M + V(x, e)`, `M = ρᵀπ`.
     fn energy(&self, y: &Self::State) -> f64 {
         self.translational_energy(y) + self.internal_energy(y) + self.potential_energy(y)

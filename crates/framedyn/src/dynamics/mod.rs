@@ -17,7 +17,7 @@ use nalgebra::{SMatrix, SVector};
 
 use crate::bundle::FrameBundle;
 use crate::lie::LieGroup;
-use crate::potential::Gradient;
+use crate::potential::{Gradient, Potential};
 
 /// A left-trivialised vector field `ẏ = y·f(t, y)` on a Lie group of states,
 /// with its conserved energy and the distance of a state from its constraints.
@@ -52,7 +52,22 @@ pub trait System: Send + Sync {
     fn gauge(&self, _y: &Self::State) -> Vec<<Self::State as LieGroup>::Algebra> {
         Vec::new()
     }
+
+    /// `(f(t, y), Df(t, y)[ξ])`: the vector field and its exact directional
+    /// derivative in the left trivialisation,
+    /// `Df(t, y)[ξ] = d/ds f(t, y·exp(sξ))|_{s=0}` — in closed form, with the
+    /// potential's second derivatives by automatic differentiation
+    /// ([`gradient_derivative`](crate::potential::gradient_derivative)).
+    /// What the tangent analyses integrate ([`Linearised`]); `None` (the
+    /// default) for a system without it, whose tangent maps are then
+    /// differenced ([`analysis::tangent`](crate::analysis::tangent)).
+    fn tangent_field(&self, _t: f64, _y: &Self::State, _xi: &<Self::State as LieGroup>::Algebra) -> Option<FieldAndDerivative<Self::State>> {
+        None
+    }
 }
+
+/// `(f, Df[ξ])` of [`System::tangent_field`]: two elements of the algebra of `G`.
+pub type FieldAndDerivative<G> = (<G as LieGroup>::Algebra, <G as LieGroup>::Algebra);
 
 /// A basis of so(N): for `i < j` (in the order (0,1), (0,2), …, (1,2), …)
 /// the matrix `w` with `w_ji = 1`, `w_ij = −1` (for N = 2 the single
@@ -132,15 +147,81 @@ pub fn internal_gradient<const N: usize, const E: usize>(
     q.transpose() * grad.de
 }
 
+/// The generalised forces of a potential at a configuration and their
+/// derivative along a motion of it ([`force_derivative`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ForceDerivative<const N: usize> {
+    /// The horizontal force `F̂` ([`horizontal_force`]).
+    pub force: SVector<f64, N>,
+    /// Its derivative.
+    pub d_force: SVector<f64, N>,
+    /// `∂V/∂ρ = qᵀ·∂_e V` ([`internal_gradient`]; zero for a `V(x)`).
+    pub internal: SMatrix<f64, N, N>,
+    /// Its derivative.
+    pub d_internal: SMatrix<f64, N, N>,
+}
+
+/// [`horizontal_force`] and [`internal_gradient`] at `(g, ρ)` (body frame
+/// `e = q·ρ`), and their exact derivatives when the bundle element moves
+/// along `ġ = g·η` and the body frame's components by `δρ`: the chain rule
+/// through the bundle's [`frame_velocity`](FrameBundle::frame_velocity),
+/// [`lift_derivative`](FrameBundle::lift_derivative) and
+/// [`frame_velocity_derivative`](FrameBundle::frame_velocity_derivative),
+/// with the potential's second derivatives by nested automatic
+/// differentiation ([`gradient_derivative`](crate::potential::gradient_derivative)).
+#[allow(clippy::too_many_arguments)]
+pub fn force_derivative<B, P, const N: usize, const E: usize>(
+    bundle: &B,
+    potential: &P,
+    metric: &SMatrix<f64, E, E>,
+    g: &B::Group,
+    rho: &SMatrix<f64, N, N>,
+    eta: &<B::Group as LieGroup>::Algebra,
+    drho: &SMatrix<f64, N, N>,
+) -> ForceDerivative<N>
+where
+    B: FrameBundle<N, E>,
+    P: Potential<N, E>,
+{
+    let x = bundle.position(g);
+    let q = bundle.frame_vectors(g);
+    let (dx, dq) = bundle.frame_velocity(g, eta);
+    let frame_dependent = potential.uses_frame();
+    let de = if frame_dependent { dq * rho + q * drho } else { SMatrix::zeros() };
+    let (grad, dgrad) = crate::potential::gradient_derivative(potential, &x, &(q * rho), metric, &dx, &de);
+    let mut force = -(q.transpose() * grad.dx);
+    let mut d_force = -(dq.transpose() * grad.dx + q.transpose() * dgrad.dx);
+    let (mut internal, mut d_internal) = (SMatrix::zeros(), SMatrix::zeros());
+    if frame_dependent {
+        for a in 0..N {
+            let mut unit = SVector::<f64, N>::zeros();
+            unit[a] = 1.0;
+            let lift = bundle.horizontal_lift(g, &unit);
+            let (_, dq_a) = bundle.frame_velocity(g, &lift);
+            let (_, ddq_a) = bundle.frame_velocity_derivative(g, &lift, eta);
+            let (_, ddq_a_lift) = bundle.frame_velocity(g, &bundle.lift_derivative(g, &unit, eta));
+            let de_a = dq_a * rho;
+            let dde_a = (ddq_a + ddq_a_lift) * rho + dq_a * drho;
+            force[a] -= grad.de.component_mul(&de_a).sum();
+            d_force[a] -= dgrad.de.component_mul(&de_a).sum() + grad.de.component_mul(&dde_a).sum();
+        }
+        internal = q.transpose() * grad.de;
+        d_internal = dq.transpose() * grad.de + q.transpose() * dgrad.de;
+    }
+    ForceDerivative { force, d_force, internal, d_internal }
+}
+
 pub mod affine;
 pub use affine::constrained;
 pub mod gyroscope;
 pub mod gyroscope2;
 pub mod gyroscope3;
+pub mod linearised;
 pub mod point;
 pub mod split;
 
 pub use gyroscope2::{Gyroscope2Model, Gyroscope2State};
 pub use gyroscope3::{Gyroscope3Model, Gyroscope3State, PaperMomenta};
+pub use linearised::Linearised;
 pub use point::{PointModel, PointState};
 pub use split::{NoSplit, SplitDispatch, Splittable};

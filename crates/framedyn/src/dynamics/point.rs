@@ -196,6 +196,20 @@ where
         ProductAlgebra(xi, f * self.inv_mass)
     }
 
+    /// `Df[(η, δu)] = (lift(δu) + D_g lift(u)[η], δF̂/m)` with
+    /// `δF̂ = −(δq)ᵀ∂V/∂x − qᵀ(∂²V/∂x²)δx` and `(δx, δq)` the bundle's
+    /// frame velocity along `η` ([`force_derivative`](super::force_derivative)).
+    fn tangent_field(&self, t: f64, y: &Self::State, xi: &<Self::State as LieGroup>::Algebra) -> Option<super::FieldAndDerivative<Self::State>> {
+        if !self.potential.second_derivatives() {
+            return None;
+        }
+        let (g, u) = (&y.0, &y.1 .0);
+        let (eta, du) = (&xi.0, &xi.1);
+        let d = super::force_derivative(&self.bundle, &self.potential, &self.metric, g, &SMatrix::zeros(), eta, &SMatrix::zeros());
+        let dlift = self.bundle.horizontal_lift(g, du) + self.bundle.lift_derivative(g, u, eta);
+        Some((self.vector_field(t, y), ProductAlgebra(dlift, d.d_force * self.inv_mass)))
+    }
+
     /// `E = (m/2)|u|² + V(x)`.
     fn energy(&self, y: &Self::State) -> f64 {
         self.kinetic_energy(y) + self.potential_energy(y)

@@ -25,7 +25,9 @@
 //!   form, square root, logarithm, polar factor) are in the crate-internal
 //!   module `matrix` (directory `lie/matrix/`, one file per function family,
 //!   each citing the literature it follows);
-//! - [`rn`] (the additive group ℝᵏ) and [`product`] (direct products);
+//! - [`rn`] (the additive group ℝᵏ), [`product`] (direct products) and
+//!   [`tangent`] (the tangent group `G ⋉ 𝔤`: the group over dual numbers,
+//!   through which the integrators differentiate their own steps);
 //! - this file: the traits and the generic `dexp`/`dexp⁻¹` series.
 
 pub mod co;
@@ -41,6 +43,7 @@ pub mod so4;
 pub mod son;
 pub mod special;
 pub mod su2;
+pub mod tangent;
 
 #[allow(unused_imports)]
 pub use co::*;
@@ -63,6 +66,7 @@ pub use so4::*;
 pub use son::*;
 #[allow(unused_imports)]
 pub use su2::*;
+pub use tangent::{Tangent, TangentAlgebra};
 
 use nalgebra::{DMatrix, SMatrix};
 use std::fmt::Debug;

@@ -216,6 +216,13 @@ where
         }
     }
 
+    /// The Newton iteration solves the lifted midpoint equations, whose
+    /// tangent part is the linearisation of the plain ones: the tangent
+    /// image is exact up to the Newton tolerance.
+    fn tangent_step(&self, sys: &S, t: f64, y0: &S::State, h: f64, xi0: &Alg<S>) -> Option<super::TangentStep<S>> {
+        Some(super::lifted_step(self, sys, t, y0, h, xi0))
+    }
+
     fn step(
         &self,
         sys: &S,

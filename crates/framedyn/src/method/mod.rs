@@ -86,6 +86,10 @@ use tableau::DENSE_DEGREE;
 /// The Lie algebra of the state group of `S`.
 pub type Alg<S> = <<S as System>::State as LieGroup>::Algebra;
 
+/// The state after a step and the image of a tangent vector under the
+/// step's tangent map ([`Method::tangent_step`]).
+pub type TangentStep<S> = Result<(<S as System>::State, Alg<S>), StepFault>;
+
 /// Static properties of a method.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MethodInfo {
@@ -304,4 +308,30 @@ pub trait Method<S: System>: Clone + Debug {
         h: f64,
         request: StepRequest<Alg<S>>,
     ) -> Result<StepOutput<S::State>, StepFault>;
+
+    /// The step from `(t, y₀)` of size `h` and the image of the tangent
+    /// vector `ξ₀` (algebra, left-trivialised) under the step's exact
+    /// tangent map: the same method stepping the tangent lift
+    /// [`Linearised`](crate::dynamics::Linearised) on the tangent group
+    /// ([`crate::lie::tangent`]). The caller has checked that `system` has a
+    /// [`tangent_field`](System::tangent_field) (else the step fails as
+    /// non-finite). `None` (the default) for a method without an exact
+    /// tangent map (the splittings, whose exact free flows are not lifted):
+    /// the analyses then difference its steps.
+    fn tangent_step(&self, system: &S, t: f64, y0: &S::State, h: f64, xi0: &Alg<S>) -> Option<TangentStep<S>> {
+        let _ = (system, t, y0, h, xi0);
+        None
+    }
+}
+
+/// [`Method::tangent_step`] for a method that integrates any system (the
+/// tangent lift included).
+pub(crate) fn lifted_step<S, M>(method: &M, system: &S, t: f64, y0: &S::State, h: f64, xi0: &Alg<S>) -> Result<(S::State, Alg<S>), StepFault>
+where
+    S: System,
+    S::State: GroupNumerics,
+    M: for<'a> Method<crate::dynamics::Linearised<'a, S>>,
+{
+    let lifted = crate::dynamics::Linearised::unchecked(system);
+    method.step(&lifted, t, &crate::lie::Tangent(*y0, *xi0), h, StepRequest::plain()).map(|o| (o.y.0, o.y.1))
 }

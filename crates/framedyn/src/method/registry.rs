@@ -208,6 +208,21 @@ where
         }
     }
 
+    /// The RKMK methods and the implicit midpoint rule step the tangent
+    /// lift; a splitting has no exact tangent map (`None`).
+    fn tangent_step(&self, sys: &S, t: f64, y: &S::State, h: f64, xi0: &Alg<S>) -> Option<super::TangentStep<S>> {
+        match self {
+            AnyMethod::Rkmk1(m) => Method::<S>::tangent_step(m, sys, t, y, h, xi0),
+            AnyMethod::Rkmk2(m) => Method::<S>::tangent_step(m, sys, t, y, h, xi0),
+            AnyMethod::Rkmk3(m) => Method::<S>::tangent_step(m, sys, t, y, h, xi0),
+            AnyMethod::Rkmk4(m) => Method::<S>::tangent_step(m, sys, t, y, h, xi0),
+            AnyMethod::Rkmk7(m) => Method::<S>::tangent_step(m, sys, t, y, h, xi0),
+            AnyMethod::Rkmk12(m) => Method::<S>::tangent_step(m, sys, t, y, h, xi0),
+            AnyMethod::Implicit(m) => Method::<S>::tangent_step(m, sys, t, y, h, xi0),
+            AnyMethod::Split(_) => None,
+        }
+    }
+
     // A dispatch, called (not inlined) from the driver's loops: inlined, it
     // would copy every method's step into every loop of every model
     // (docs/development.md, "What the core's size is made of"). The

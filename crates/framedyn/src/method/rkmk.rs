@@ -501,6 +501,10 @@ where
         self.method_info()
     }
 
+    fn tangent_step(&self, sys: &Sys, t: f64, y0: &Sys::State, h: f64, xi0: &Alg<Sys>) -> Option<super::TangentStep<Sys>> {
+        Some(super::lifted_step(self, sys, t, y0, h, xi0))
+    }
+
     // Forced inline only in optimised builds, where inlining specialises the
     // step on the caller's constant request; a hint in builds with debug
     // assertions (tests), where forcing it copied the whole step into each of

@@ -53,6 +53,10 @@ impl<P1: Potential<N, E>, P2: Potential<N, E>, const N: usize, const E: usize> P
         self.first.uses_frame() || self.second.uses_frame()
     }
 
+    fn second_derivatives(&self) -> bool {
+        self.first.second_derivatives() && self.second.second_derivatives()
+    }
+
     fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, metric: &SMatrix<f64, E, E>) -> D {
         self.first.value(x, e, metric) + self.second.value(x, e, metric)
     }
@@ -95,6 +99,10 @@ impl<P> Scaled<P> {
 impl<P: Potential<N, E>, const N: usize, const E: usize> Potential<N, E> for Scaled<P> {
     fn uses_frame(&self) -> bool {
         self.inner.uses_frame()
+    }
+
+    fn second_derivatives(&self) -> bool {
+        self.inner.second_derivatives()
     }
 
     fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, metric: &SMatrix<f64, E, E>) -> D {

@@ -52,7 +52,8 @@ pub use separable::*;
 pub use user::*;
 
 use nalgebra::{SMatrix, SVector};
-use num_dual::{DualNum, DualSVec64};
+use nalgebra::Const;
+use num_dual::{Dual64, DualNum, DualSVec64, DualVec};
 use std::fmt::Debug;
 
 /// The scalar types a potential is evaluated with: `f64` and the dual numbers
@@ -84,6 +85,14 @@ pub trait Potential<const N: usize, const E: usize>: Debug + Send + Sync {
     /// `V(x, e)`; `metric` is the ambient metric (identity, or
     /// `diag(1, 1, −1)` for H²).
     fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, metric: &SMatrix<f64, E, E>) -> D;
+
+    /// Whether [`value`](Self::value) has exact second derivatives at dual
+    /// arguments (default `true`: a potential written over [`Scalar`]). The
+    /// `f64`-only user potentials ([`FnPotential`], [`GradFnPotential`]) have
+    /// none; models in them have no exact [`tangent_field`](crate::dynamics::System::tangent_field).
+    fn second_derivatives(&self) -> bool {
+        true
+    }
 
     /// Value and gradient; by default by forward-mode automatic differentiation
     /// ([`autodiff_gradient`]).
@@ -124,6 +133,47 @@ pub fn autodiff_gradient<P: Potential<N, E>, const N: usize, const E: usize>(
         }
     }
     Gradient { value, dx, de }
+}
+
+/// The gradient of `p` at `(x, e)` and its directional derivative along
+/// `(δx, δe)` — the Hessian of `V` applied to `(δx, δe)`, with `value` the
+/// derivative `dV[(δx, δe)]` — by nested forward-mode automatic
+/// differentiation: the gradient's dual numbers over dual numbers carrying
+/// the direction. One evaluation for `∂V/∂x`, one more per frame vector when
+/// [`Potential::uses_frame`]. Exact only where [`Potential::second_derivatives`].
+pub fn gradient_derivative<P: Potential<N, E>, const N: usize, const E: usize>(
+    p: &P,
+    x: &SVector<f64, E>,
+    e: &SMatrix<f64, E, N>,
+    metric: &SMatrix<f64, E, E>,
+    dx: &SVector<f64, E>,
+    de: &SMatrix<f64, E, N>,
+) -> (Gradient<N, E>, Gradient<N, E>) {
+    type Inner<const E: usize> = DualVec<Dual64, Const<E>>;
+    let xd = x.zip_map(dx, Dual64::new);
+    let ed = e.zip_map(de, Dual64::new);
+    let lift_e = || ed.map(Inner::<E>::from_re);
+    let e_lifted = lift_e();
+    let (value, gx) = num_dual::gradient(|xi: SVector<Inner<E>, E>| p.value(&xi, &e_lifted, metric), &xd);
+    let mut g = Gradient { value: value.re, dx: gx.map(|v| v.re), de: SMatrix::zeros() };
+    let mut d = Gradient { value: value.eps, dx: gx.map(|v| v.eps), de: SMatrix::zeros() };
+    if p.uses_frame() {
+        let x_lifted = xd.map(Inner::<E>::from_re);
+        for a in 0..N {
+            let col: SVector<Dual64, E> = ed.column(a).into_owned();
+            let (_, ga) = num_dual::gradient(
+                |cd: SVector<Inner<E>, E>| {
+                    let mut ei = lift_e();
+                    ei.set_column(a, &cd);
+                    p.value(&x_lifted, &ei, metric)
+                },
+                &col,
+            );
+            g.de.set_column(a, &ga.map(|v| v.re));
+            d.de.set_column(a, &ga.map(|v| v.eps));
+        }
+    }
+    (g, d)
 }
 
 /// `V = 0`: free (geodesic) motion.

@@ -230,6 +230,11 @@ where
         self.uses_frame
     }
 
+    /// None: `V` is an `f64` closure.
+    fn second_derivatives(&self) -> bool {
+        false
+    }
+
     fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, metric: &SMatrix<f64, E, E>) -> D {
         first_order(x, e, self.uses_frame, |xr, er| (self.f)(xr, er, metric), |xr, er| self.gradient_with_error(xr, er, metric).0)
     }
@@ -322,6 +327,11 @@ where
 {
     fn uses_frame(&self) -> bool {
         self.uses_frame
+    }
+
+    /// None: `V` is an `f64` closure.
+    fn second_derivatives(&self) -> bool {
+        false
     }
 
     fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, metric: &SMatrix<f64, E, E>) -> D {

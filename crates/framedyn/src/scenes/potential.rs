@@ -218,6 +218,9 @@ impl<const N: usize, const E: usize> Potential<N, E> for UserPotential<N, E> {
             UserKind::Supplied(p) => p.uses_frame(),
         }
     }
+    fn second_derivatives(&self) -> bool {
+        false
+    }
     fn value<D: Scalar>(&self, x: &SVector<D, E>, e: &SMatrix<D, E, N>, g: &SMatrix<f64, E, E>) -> D {
         match &*self.0 {
             UserKind::Differenced(p) => p.value(x, e, g),
@@ -253,6 +256,15 @@ macro_rules! scene_potential {
                     $($name::$var(p) => Potential::<$n, $e>::uses_frame(p),)*
                     $name::User(p) => Potential::<$n, $e>::uses_frame(p),
                     $name::Sum(terms) => terms.iter().any(|(_, p)| p.uses_frame()),
+                }
+            }
+
+            fn second_derivatives(&self) -> bool {
+                match self {
+                    $name::Free => true,
+                    $($name::$var(p) => Potential::<$n, $e>::second_derivatives(p),)*
+                    $name::User(_) => false,
+                    $name::Sum(terms) => terms.iter().all(|(_, p)| p.second_derivatives()),
                 }
             }
 
