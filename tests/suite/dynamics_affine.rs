@@ -425,6 +425,37 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 8, ..ProptestConfig::default() })]
+
+    /// The exact derivative of the vector field (`System::tangent_field`) of
+    /// all four affine models on S², H², T², S³ with random anisotropic `J`,
+    /// in the torque-producing `Dipole` + elastic potential, against central
+    /// differences of the vector field, which approach it at second order
+    /// ([`check`](crate::tangent_fields::check)).
+    #[test]
+    fn tangent_fields_agree_with_differences(
+        p in proptest::collection::vec(-1.0f64..1.0, 40),
+        mass in 0.5f64..2.0,
+        kappa in 0.2f64..1.0,
+    ) {
+        let j2 = inertia::<2>(&p[30..], false);
+        let j3 = inertia::<3>(&p[30..], false);
+        let u2 = Vector2::new(p[20], p[21]);
+        let u3 = Vector3::new(p[20], p[21], p[22]);
+        let general = Sum(Elastic { kappa }, Dipole { a: 0.4 * p[23], b: 0.3 * p[24] });
+        let seed = 1 + (p[0].to_bits() % 1000);
+        for kind in KINDS {
+            let (bs2, bh2, bs3, bt2) = (s2(), h2(), s3(), t2());
+            let (gs2, gh2, gs3, gt2) = (g_of_s2(&bs2, &p[25..]), g_of_h2(&bh2, &p[25..]), g_of_s3(&bs3, &p[25..]), g_of_t2(&t2(), &p[25..]));
+            with_model!(kind, bs2, mass, j2, general, &gs2, &p, &u2, |m, y| { crate::tangent_fields::check(&format!("S2 {kind:?}"), &m, &y, seed) });
+            with_model!(kind, bh2, mass, j2, general, &gh2, &p, &u2, |m, y| { crate::tangent_fields::check(&format!("H2 {kind:?}"), &m, &y, seed) });
+            with_model!(kind, bt2, mass, j2, general, &gt2, &p, &u2, |m, y| { crate::tangent_fields::check(&format!("T2 {kind:?}"), &m, &y, seed) });
+            with_model!(kind, bs3, mass, j3, general, &gs3, &p, &u3, |m, y| { crate::tangent_fields::check(&format!("S3 {kind:?}"), &m, &y, seed) });
+        }
+    }
+}
+
 // ---------------------------------------------------------------------------
 // Conservation along integrated trajectories, with convergence
 // ---------------------------------------------------------------------------

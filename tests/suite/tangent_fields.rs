@@ -4,7 +4,8 @@
 //! surfaces (Riemannian and Lorentz-type energy), the S³ gyroscope with an
 //! anisotropic body — against central differences of the vector field, with
 //! a potential whose second derivatives in `x` and `e` are all non-zero.
-//! The differences converge to it at second order (the error falls by 4
+//! (The affine bodies are checked in `dynamics_affine.rs`, with this
+//! module's [`check`].) The differences converge to it at second order (the error falls by 4
 //! when the step halves), so a wrong term cannot hide in the tolerance.
 
 use framedyn::body::{Gyroscope, Point, Signature};
@@ -57,7 +58,7 @@ impl Stream {
 /// vector field; `Df` agrees with central differences to `1e-8` (relative,
 /// step 1e-5), and the differences at steps `2e-2`, `1e-2` approach it at
 /// second order. Returns the largest relative error at step 1e-5.
-fn check<S: System>(name: &str, sys: &S, y: &S::State, seed: u64) -> f64 {
+pub(crate) fn check<S: System>(name: &str, sys: &S, y: &S::State, seed: u64) -> f64 {
     let mut rng = Stream(seed);
     let vf = |z: &S::State| sys.vector_field(0.3, z);
     let mut worst: f64 = 0.0;

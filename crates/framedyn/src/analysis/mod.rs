@@ -22,8 +22,8 @@
 //!
 //! **Exact tangent maps.** Where the system has the exact derivative of its
 //! vector field ([`System::tangent_field`](crate::dynamics::System::tangent_field):
-//! the point, the n = 2 gyroscope and the S³ gyroscope on every manifold, in
-//! potentials written over dual numbers) and the method is a Lie-group
+//! every model of the crate — point, gyroscopes, the four affine bodies — on
+//! every manifold, in potentials written over dual numbers) and the method is a Lie-group
 //! Runge–Kutta method or the implicit midpoint rule
 //! ([`Method::tangent_step`](crate::method::Method::tangent_step)), the
 //! method steps the tangent lift [`Linearised`](crate::dynamics::Linearised)
@@ -38,8 +38,8 @@
 //! differentiation ([`gradient_derivative`](crate::potential::gradient_derivative)).
 //!
 //! **Differenced tangent maps.** Elsewhere — the splittings (their exact
-//! free flows are not lifted), the affine bodies, potentials given as `f64`
-//! closures (no second derivatives) — and on request
+//! free flows are not lifted), potentials given as `f64` closures (no
+//! second derivatives), systems without a `tangent_field` — and on request
 //! ([`Linearisation::differenced`]), the derivative is a central difference
 //! of `Φ_h` along each tangent column, with step `ε` in the algebra
 //! ([`Linearisation`]): second order by default (`2` steps per column,

@@ -154,6 +154,28 @@ impl<const N: usize> InternalConstraint<N> for Isochoric {
         let omega = (a.transpose() + g_inv * c) * j_inv;
         Kinematics { rho, rho_dot: rho * omega, xi: omega }
     }
+    /// The derivative of `a = ρ⁻¹Kρ⁻ᵀ`, `G⁻¹ = ρ⁻¹ρ⁻ᵀ`, `c` and
+    /// `Ω̂ = (aᵀ + cG⁻¹)J⁻¹` with `δρ = ρX`, `δ(ρ⁻¹) = −Xρ⁻¹`.
+    fn kinematics_derivative(&self, f: &Sl<N>, k: &Mat<N>, inertia: &Inertia<N>, df: &Mat<N>, dk: &Mat<N>) -> Kinematics<Sl<N>, N> {
+        let rho = *f.matrix();
+        let rho_inv = inverse(&rho).unwrap_or_else(|| Mat::<N>::from_element(f64::NAN));
+        let d_inv = -(df * rho_inv);
+        let a = rho_inv * k * rho_inv.transpose();
+        let da = d_inv * k * rho_inv.transpose() + rho_inv * dk * rho_inv.transpose() + rho_inv * k * d_inv.transpose();
+        let g_inv = rho_inv * rho_inv.transpose();
+        let dg_inv = d_inv * rho_inv.transpose() + rho_inv * d_inv.transpose();
+        let j_inv = inertia.inverse();
+        let (num, den) = (trace_of_product(j_inv, &a), trace_of_product(j_inv, &g_inv));
+        let c = -num / den;
+        let dc = -(trace_of_product(j_inv, &da) - c * -trace_of_product(j_inv, &dg_inv)) / den;
+        let omega = (a.transpose() + g_inv * c) * j_inv;
+        let d_omega = (da.transpose() + dg_inv * c + g_inv * dc) * j_inv;
+        let d_rho = rho * df;
+        Kinematics { rho: d_rho, rho_dot: d_rho * omega + rho * d_omega, xi: d_omega }
+    }
+    fn momentum_direction(&self, dm: &Mat<N>) -> Mat<N> {
+        *dm
+    }
     fn velocity_defect(&self, omega: &Mat<N>) -> f64 {
         (omega.trace() / N as f64).abs()
     }
@@ -256,6 +278,32 @@ impl<const N: usize> InternalConstraint<N> for Conformal {
             omega[(i, i)] += kappa;
         }
         Kinematics { rho, rho_dot: rho * omega, xi: omega }
+    }
+    /// With `X = κ_X I + W` (`δλ = κ_X λ`, `δR = RW`): the derivative of
+    /// `κ = tr K/(λ² tr J)` and of `Ω̂ = S(−RᵀAR/λ²) + κI`, `A = K − Kᵀ`
+    /// (`S` = [`Inertia::solve_rotational`], linear).
+    fn kinematics_derivative(&self, f: &Co<N>, k: &Mat<N>, inertia: &Inertia<N>, df: &Mat<N>, dk: &Mat<N>) -> Kinematics<Co<N>, N> {
+        let kin = self.kinematics(f, k, inertia);
+        let lambda = f.lambda();
+        let r = f.rotation().matrix();
+        let kx = df.trace() / N as f64;
+        let w = (df - df.transpose()) * 0.5;
+        let dr = r * w;
+        let inv_l2 = 1.0 / (lambda * lambda);
+        let d_inv_l2 = -2.0 * kx * inv_l2;
+        let tr_j = inertia.matrix().trace();
+        let dkappa = (dk.trace() * inv_l2 + k.trace() * d_inv_l2) / tr_j;
+        let (spin, dspin) = (k - k.transpose(), dk - dk.transpose());
+        let arg = dr.transpose() * spin * r + r.transpose() * dspin * r + r.transpose() * spin * dr;
+        let mut d_omega = inertia.solve_rotational(&(-(arg * inv_l2 + r.transpose() * spin * r * d_inv_l2)));
+        for i in 0..N {
+            d_omega[(i, i)] += dkappa;
+        }
+        let d_rho = kin.rho * df;
+        Kinematics { rho: d_rho, rho_dot: d_rho * kin.xi + kin.rho * d_omega, xi: d_omega }
+    }
+    fn momentum_direction(&self, dm: &Mat<N>) -> Mat<N> {
+        *dm
     }
     fn velocity_defect(&self, omega: &Mat<N>) -> f64 {
         (omega - co_part(omega)).amax()
@@ -374,6 +422,18 @@ impl<const N: usize> InternalConstraint<N> for PureDilatation<N> {
         let rho = self.shape * lambda;
         let kappa = k.trace() / (lambda * lambda * self.dilatational_inertia(inertia));
         Kinematics { rho, rho_dot: rho * kappa, xi: SVector::<f64, 1>::new(kappa) }
+    }
+    /// `δλ = λ δl`, `δκ = tr δK/(λ²c) − 2κ δl`, `δρ = ρ δl`, `δρ̇ = δ(ρκ)`.
+    fn kinematics_derivative(&self, f: &Rn<1>, k: &Mat<N>, inertia: &Inertia<N>, df: &SVector<f64, 1>, dk: &Mat<N>) -> Kinematics<Rn<1>, N> {
+        let kin = self.kinematics(f, k, inertia);
+        let lambda = f.0[0].exp();
+        let kappa = kin.xi[0];
+        let dkappa = dk.trace() / (lambda * lambda * self.dilatational_inertia(inertia)) - 2.0 * kappa * df[0];
+        let d_rho = kin.rho * df[0];
+        Kinematics { rho: d_rho, rho_dot: d_rho * kappa + kin.rho * dkappa, xi: SVector::<f64, 1>::new(dkappa) }
+    }
+    fn momentum_direction(&self, dm: &SVector<f64, 1>) -> Mat<N> {
+        Mat::<N>::identity() * (dm[0] / N as f64)
     }
     fn velocity_defect(&self, omega: &Mat<N>) -> f64 {
         let mut d = *omega;

@@ -74,6 +74,15 @@ pub trait InternalConstraint<const N: usize>: Clone + Debug + Send + Sync + 'sta
     fn project(&self, a: &Mat<N>) -> <Self::Momentum as LieGroup>::Algebra;
     /// `ρ`, `ρ̇` and `Ω̂` from the fibre element and `P(K)` (the hot path).
     fn kinematics(&self, f: &Self::Fibre, k: &Mat<N>, inertia: &Inertia<N>) -> Kinematics<Self::Fibre, N>;
+    /// The derivative of [`kinematics`](Self::kinematics) when the fibre
+    /// element moves to `f·exp(s·df)` and the hypermomentum matrix by `dk`:
+    /// `(δρ, δρ̇, δΩ̂)` in the fields of a [`Kinematics`] (the exact
+    /// derivative of the vector field,
+    /// [`System::tangent_field`](crate::dynamics::System::tangent_field)).
+    fn kinematics_derivative(&self, f: &Self::Fibre, k: &Mat<N>, inertia: &Inertia<N>, df: &<Self::Fibre as LieGroup>::Algebra, dk: &Mat<N>) -> Kinematics<Self::Fibre, N>;
+    /// The matrix of a momentum direction: `d/ds momentum_matrix(m·exp(s·dm))`,
+    /// linear in `dm` (the momentum groups are additive).
+    fn momentum_direction(&self, dm: &<Self::Momentum as LieGroup>::Algebra) -> Mat<N>;
     /// Largest entry of the component of `Ω̂ = ρ⁻¹ρ̇` outside the fibre's
     /// algebra (0 for an admissible velocity).
     fn velocity_defect(&self, omega: &Mat<N>) -> f64;
@@ -129,6 +138,19 @@ impl<const N: usize> InternalConstraint<N> for Unconstrained {
         let p = k.transpose() * rho_inv.transpose();
         let rho_dot = p * inertia.j_inv;
         Kinematics { rho, rho_dot, xi: rho_inv * rho_dot }
+    }
+    /// `δρ = ρX`, `δ(ρ⁻¹) = −Xρ⁻¹`, `δρ̇ = (δKᵀρ⁻ᵀ + Kᵀδ(ρ⁻¹)ᵀ)J⁻¹`,
+    /// `δΩ̂ = δ(ρ⁻¹)ρ̇ + ρ⁻¹δρ̇`.
+    fn kinematics_derivative(&self, f: &Gl<N>, k: &Mat<N>, inertia: &Inertia<N>, df: &Mat<N>, dk: &Mat<N>) -> Kinematics<Gl<N>, N> {
+        let kin = self.kinematics(f, k, inertia);
+        let rho_inv = inverse(&kin.rho).unwrap_or_else(|| Mat::<N>::from_element(f64::NAN));
+        let d_rho = kin.rho * df;
+        let d_inv = -(df * rho_inv);
+        let d_rho_dot = (dk.transpose() * rho_inv.transpose() + k.transpose() * d_inv.transpose()) * inertia.j_inv;
+        Kinematics { rho: d_rho, rho_dot: d_rho_dot, xi: d_inv * kin.rho_dot + rho_inv * d_rho_dot }
+    }
+    fn momentum_direction(&self, dm: &Mat<N>) -> Mat<N> {
+        *dm
     }
     fn velocity_defect(&self, _omega: &Mat<N>) -> f64 {
         0.0

@@ -372,6 +372,33 @@ where
         )
     }
 
+    /// The derivative along `((η, X), (δu, δm))`: the lift's as for a point,
+    /// `δΩ̂` from [`InternalConstraint::kinematics_derivative`], and the
+    /// derivatives of `u̇ = (F̂ − K_G A u)/m` (`A = P(K) − P(K)ᵀ`) and of
+    /// `P(sym(ρ̇Jρ̇ᵀ) − ρ(∂V/∂ρ)ᵀ)` ([`force_derivative`](crate::dynamics::force_derivative)).
+    fn tangent_field(&self, t: f64, y: &Self::State, xi: &BodyVelocity<B, C, N, E>) -> Option<crate::dynamics::FieldAndDerivative<Self::State>> {
+        if !self.potential.second_derivatives() {
+            return None;
+        }
+        let g = &y.0 .0;
+        let u = y.1 .0 .0;
+        let (eta, dfib) = (&xi.0 .0, &xi.0 .1);
+        let (du, dmom) = (xi.1 .0, &xi.1 .1);
+        let k = self.constraint.momentum_matrix(&y.1 .1);
+        let dk = self.constraint.momentum_direction(dmom);
+        let kin = self.constraint.kinematics(&y.0 .1, &k, &self.inertia);
+        let dkin = self.constraint.kinematics_derivative(&y.0 .1, &k, &self.inertia, dfib, &dk);
+        let d = crate::dynamics::force_derivative(&self.bundle, &self.potential, &self.metric, g, &kin.rho, eta, &dkin.rho);
+        let curvature = self.bundle.curvature_at(g);
+        let d_curvature = self.bundle.curvature_derivative(g, eta);
+        let (spin, dspin) = (k - k.transpose(), dk - dk.transpose());
+        let du_dot = (d.d_force - (dspin * u + spin * du) * curvature - spin * u * d_curvature) * self.inv_mass;
+        let da = dkin.rho_dot * self.inertia.j * kin.rho_dot.transpose() + kin.rho_dot * self.inertia.j * dkin.rho_dot.transpose();
+        let dk_dot = (da + da.transpose()) * 0.5 - dkin.rho * d.internal.transpose() - kin.rho * d.d_internal.transpose();
+        let dlift = self.bundle.horizontal_lift(g, &du) + self.bundle.lift_derivative(g, &u, eta);
+        Some((self.vector_field(t, y), ProductAlgebra(ProductAlgebra(dlift, dkin.xi), ProductAlgebra(du_dot, self.constraint.project(&dk_dot)))))
+    }
+
     /// `(m/2)|u|² + ½tr(ρ̇Jρ̇ᵀ) + V(x, qρ)`.
     fn energy(&self, y: &Self::State) -> f64 {
         self.translational_energy(y) + self.internal_energy(y) + self.potential_energy(y)
