@@ -31,8 +31,11 @@ class LyapunovResult:
     ``times`` and ``running`` (shape ``(len(times), k)``): the running
     estimates at every re-orthonormalisation; ``steps``: steps taken (fixed,
     or accepted error-controlled ones);
-    ``steps_per_step``: steps of the method per step (1 + 2 per tangent
-    vector, 4 with fourth-order differences); ``state_dimension``: the
+    ``steps_per_step``: steps of the method per step (1 + 1 per tangent
+    vector with exact tangent maps, where a step of the tangent lift costs
+    about two plain steps; 1 + 2 per vector with differences, 4 with
+    fourth-order ones); ``exact_tangents``: whether the tangent maps were
+    exact (see :func:`lyapunov`); ``state_dimension``: the
     state group's dimension; ``dimension``: the number of exponents of the
     full spectrum (``state_dimension``, less the gauge directions with
     ``quotient=True``); ``two_trajectory``: with
@@ -47,6 +50,7 @@ class LyapunovResult:
     running: np.ndarray
     steps: int
     steps_per_step: int
+    exact_tangents: bool
     state_dimension: int
     dimension: int
     two_trajectory: Optional[Dict[str, Any]]
@@ -65,7 +69,8 @@ class MegnoResult:
     ``running_megno``, ``running_mean``: ``Y`` and ``⟨Y⟩`` along the run
     (every step, thinned to at most 10 000 and the last); ``steps``: steps
     taken (fixed, or accepted error-controlled ones); ``steps_per_step``:
-    steps of the method per step."""
+    steps of the method per step; ``exact_tangents``: whether the tangent
+    maps were exact (see :func:`lyapunov`)."""
 
     megno: float
     mean: float
@@ -76,6 +81,7 @@ class MegnoResult:
     running_mean: np.ndarray
     steps: int
     steps_per_step: int
+    exact_tangents: bool
 
 
 @dataclass(frozen=True)
@@ -213,6 +219,7 @@ def lyapunov(
     fourth_order: bool = False,
     two_trajectory: bool = False,
     quotient: bool = False,
+    differenced: bool = False,
 ) -> LyapunovResult:
     """The Lyapunov exponents of ``scene``'s trajectory: its method with its
     steps over its time span (a fixed step ``method.h``, or ``rtol``/``atol``:
@@ -230,10 +237,19 @@ def lyapunov(
     (``λᵢ + λ₂ₙ₊₁₋ᵢ = 0``) with no gauge zero among them; default ``False``
     (the stored state's spectrum). ``transient``: time at the start left
     out of the averages; ``batches``: batches of the standard error;
-    ``seed``: of the random initial tangent frame; ``eps`` and
-    ``fourth_order``: the central differences of the step map (default
-    second order, ``eps = 1e-5``; fourth order ``eps = 1e-3``);
+    ``seed``: of the random initial tangent frame;
     ``two_trajectory``: also the two-nearby-trajectory estimate.
+
+    The tangent map of a step is exact where it exists: every model in a
+    potential of the scene format (not a Python closure), stepped by a
+    Runge–Kutta–Munthe-Kaas method or the implicit midpoint rule — the
+    method steps the linearised system on the tangent group (dual numbers
+    over the state group) and so differentiates its own step to round-off
+    (``exact_tangents`` in the result). Elsewhere (the splittings, closure
+    potentials), or with ``differenced=True``, it is a central difference of
+    the step map: ``eps`` and ``fourth_order`` choose it (default second
+    order, ``eps = 1e-5``, about 1e-10 relative per step; fourth order
+    ``eps = 1e-3``, 1e-12).
 
     Raises :class:`InvalidInputError` (a ``ValueError``) for a bad option, a
     scene with a coordinate method, or an error-controlled run too short for
@@ -242,7 +258,7 @@ def lyapunov(
     Ctrl-C raises ``KeyboardInterrupt``."""
     s = _scene(scene)
     k = _count_or_all(exponents, "exponents", 1, "a positive int")
-    _bools(fourth_order=fourth_order, two_trajectory=two_trajectory, quotient=quotient)
+    _bools(fourth_order=fourth_order, two_trajectory=two_trajectory, quotient=quotient, differenced=differenced)
     raw = _framedyn.lyapunov(
         s._native,
         k,
@@ -254,6 +270,7 @@ def lyapunov(
         fourth_order,
         two_trajectory,
         quotient,
+        differenced,
     )
     return LyapunovResult(**raw)
 
@@ -319,7 +336,9 @@ def section(
     return Section(name=raw["name"], columns=tuple(raw["columns"]), units=tuple(raw["units"]), data=raw["data"], rising=raw["rising"])
 
 
-def sali(scene: Union[Scene, Mapping[str, Any]], *, threshold: float = 1e-8, seed: int = 1, eps: Optional[float] = None, fourth_order: bool = False) -> Dict[str, Any]:
+def sali(
+    scene: Union[Scene, Mapping[str, Any]], *, threshold: float = 1e-8, seed: int = 1, eps: Optional[float] = None, fourth_order: bool = False, differenced: bool = False
+) -> Dict[str, Any]:
     """The Smaller Alignment Index (Skokos 2001) of ``scene``'s trajectory: a
     fast chaos indicator for maps over initial conditions. Two tangent
     vectors are carried by the tangent map of each step (the scene's method
@@ -327,20 +346,21 @@ def sali(scene: Union[Scene, Mapping[str, Any]], *, threshold: float = 1e-8, see
     normalised; ``SALI = min(|u₁ + u₂|,
     |u₁ − u₂|)`` falls like ``exp(−(λ₁ − λ₂)t)`` on a chaotic orbit and stays
     away from 0 on a regular one. The run stops when SALI falls below
-    ``threshold``. ``eps`` and ``fourth_order``: the central differences of
-    the step map, as for :func:`lyapunov` (SALI has no floor set by them:
+    ``threshold``. ``eps``, ``fourth_order``, ``differenced``: the tangent
+    maps, as for :func:`lyapunov` (SALI has no floor set by differences:
     the difference ``u₁ − u₂`` is carried as a tangent vector of its own).
 
     Returns ``{"sali": final value, "chaotic_at": the time it fell below the
-    threshold or None, "min": smallest value, "steps": steps taken}``.
+    threshold or None, "min": smallest value, "steps": steps taken,
+    "exact_tangents": whether the tangent maps were exact}``.
     Raises :class:`InvalidInputError` for a bad threshold or ``eps`` or an
     unsuitable scene, ``TypeError`` for arguments of the wrong type."""
     s = _scene(scene)
-    _bools(fourth_order=fourth_order)
-    value, at, low, steps = _framedyn.sali(
-        s._native, _real(threshold, "threshold"), check_int(seed, "seed", 0, _U64_MAX), None if eps is None else _real(eps, "eps"), fourth_order
+    _bools(fourth_order=fourth_order, differenced=differenced)
+    value, at, low, steps, exact = _framedyn.sali(
+        s._native, _real(threshold, "threshold"), check_int(seed, "seed", 0, _U64_MAX), None if eps is None else _real(eps, "eps"), fourth_order, differenced
     )
-    return {"sali": value, "chaotic_at": at, "min": low, "steps": steps}
+    return {"sali": value, "chaotic_at": at, "min": low, "steps": steps, "exact_tangents": exact}
 
 
 @dataclass(frozen=True)
@@ -355,7 +375,8 @@ class GaliResult:
     the number of deviation vectors; ``steps``: steps taken;
     ``steps_per_step``: steps of the method per step; ``dimension``: the
     dimension of the space the vectors live in (the phase space's with
-    ``quotient=True``, the state group's without)."""
+    ``quotient=True``, the state group's without); ``exact_tangents``:
+    whether the tangent maps were exact (see :func:`lyapunov`)."""
 
     gali: float
     log10: float
@@ -366,6 +387,7 @@ class GaliResult:
     steps: int
     steps_per_step: int
     dimension: int
+    exact_tangents: bool
 
 
 def gali(
@@ -377,6 +399,7 @@ def gali(
     eps: Optional[float] = None,
     fourth_order: bool = False,
     quotient: bool = True,
+    differenced: bool = False,
 ) -> GaliResult:
     """The Generalised Alignment Index ``GALI_k`` (Skokos, Bountis &
     Antonopoulos 2007) of ``scene``'s trajectory: the volume spanned by ``k``
@@ -406,7 +429,7 @@ def gali(
     run stops when the index falls below it (1e-300 ≤ threshold < 1; that
     means chaos only for small ``k``: compare ``running_log10`` with a power
     law);
-    ``seed``, ``eps``, ``fourth_order``: as for :func:`lyapunov` (with
+    ``seed``, ``eps``, ``fourth_order``, ``differenced``: as for :func:`lyapunov` (with
     ``quotient=False`` the initial vectors are the first ``k`` of its frame;
     with it, their parts outside the gauge directions, orthonormalised).
 
@@ -416,12 +439,12 @@ def gali(
     ``KeyboardInterrupt``."""
     s = _scene(scene)
     kk = _count_or_all(k, "k", 2, "an int ≥ 2")
-    _bools(fourth_order=fourth_order, quotient=quotient)
-    raw = _framedyn.gali(s._native, kk, _real(threshold, "threshold"), check_int(seed, "seed", 0, _U64_MAX), None if eps is None else _real(eps, "eps"), fourth_order, quotient)
+    _bools(fourth_order=fourth_order, quotient=quotient, differenced=differenced)
+    raw = _framedyn.gali(s._native, kk, _real(threshold, "threshold"), check_int(seed, "seed", 0, _U64_MAX), None if eps is None else _real(eps, "eps"), fourth_order, quotient, differenced)
     return GaliResult(**raw)
 
 
-def megno(scene: Union[Scene, Mapping[str, Any]], *, seed: int = 1, eps: Optional[float] = None, fourth_order: bool = False) -> MegnoResult:
+def megno(scene: Union[Scene, Mapping[str, Any]], *, seed: int = 1, eps: Optional[float] = None, fourth_order: bool = False, differenced: bool = False) -> MegnoResult:
     """MEGNO, the Mean Exponential Growth factor of Nearby Orbits (Cincotta &
     Simó 2000), of ``scene``'s trajectory: a fast chaos indicator from one
     tangent vector carried by the tangent map of each step (the scene's
@@ -430,8 +453,8 @@ def megno(scene: Union[Scene, Mapping[str, Any]], *, seed: int = 1, eps: Optiona
     ``Y(t_N) = (2/t_N) Σ t_k log(|δ_k| / |δ_{k−1}|)``, ``⟨Y⟩(t_N) = (1/t_N)
     Σ h Y(t_k)`` (``t_k`` from the start, ``h`` the ``k``-th step's size).
 
-    ``seed``: of the random initial tangent vector; ``eps`` and
-    ``fourth_order``: the central differences of the step map, as for
+    ``seed``: of the random initial tangent vector; ``eps``,
+    ``fourth_order``, ``differenced``: the tangent maps, as for
     :func:`lyapunov`.
 
     Raises :class:`InvalidInputError` (a ``ValueError``) for a bad option or
@@ -439,8 +462,8 @@ def megno(scene: Union[Scene, Mapping[str, Any]], *, seed: int = 1, eps: Optiona
     wrong type, :class:`IntegrationError` when a step fails; Ctrl-C raises
     ``KeyboardInterrupt``."""
     s = _scene(scene)
-    _bools(fourth_order=fourth_order)
-    raw = _framedyn.megno(s._native, check_int(seed, "seed", 0, _U64_MAX), None if eps is None else _real(eps, "eps"), fourth_order)
+    _bools(fourth_order=fourth_order, differenced=differenced)
+    raw = _framedyn.megno(s._native, check_int(seed, "seed", 0, _U64_MAX), None if eps is None else _real(eps, "eps"), fourth_order, differenced)
     return MegnoResult(**raw)
 
 
@@ -459,6 +482,7 @@ def chaos_map(
     fourth_order: bool = False,
     threads: Optional[int] = None,
     oversubscribe: bool = False,
+    differenced: bool = False,
 ) -> ChaosMap:
     """SALI, MEGNO and/or GALI_k over initial conditions: every member of ``table``
     on ``scene``, in parallel (Rust threads, GIL released), returned as
@@ -473,8 +497,8 @@ def chaos_map(
     member is the scene with its row applied, and its values are exactly
     (bit for bit) those of :func:`sali`, :func:`megno` and :func:`gali` on
     that scene alone with the same ``threshold`` (``gali_threshold``,
-    ``gali_quotient`` as its ``quotient``), ``seed``, ``eps`` and
-    ``fourth_order``: its method, steps (fixed ``method.h`` or
+    ``gali_quotient`` as its ``quotient``), ``seed``, ``eps``,
+    ``fourth_order`` and ``differenced``: its method, steps (fixed ``method.h`` or
     ``rtol``/``atol``) and time span.
     ``sali``, ``megno``, ``gali`` (its ``k``, or ``None``): which indicators
     (at least one). ``threads``:
@@ -488,7 +512,7 @@ def chaos_map(
     argument of the wrong type; Ctrl-C stops the running members and raises
     ``KeyboardInterrupt``."""
     s = _scene(scene)
-    _bools(sali=sali, megno=megno, fourth_order=fourth_order, oversubscribe=oversubscribe, gali_quotient=gali_quotient)
+    _bools(sali=sali, megno=megno, fourth_order=fourth_order, oversubscribe=oversubscribe, gali_quotient=gali_quotient, differenced=differenced)
     names, cols = table_columns(table)
     raw = _framedyn.chaos_map(
         s._native,
@@ -505,6 +529,7 @@ def chaos_map(
         fourth_order,
         check_int(threads, "threads", 1, MAX_THREADS, optional=True),
         oversubscribe,
+        differenced,
     )
     status_names = tuple(raw["status_names"])
     codes = np.asarray(raw["status"], dtype=np.uint8)

@@ -136,21 +136,26 @@ def lyapunov(
     fourth_order: bool,
     two_trajectory: bool,
     quotient: bool,
+    differenced: bool = False,
 ) -> Dict[str, Any]:
-    """Lyapunov exponents: ``{"exponents", "stderr", "spread", "times", "running", "steps", "steps_per_step", "state_dimension", "dimension", "two_trajectory"}``."""
+    """Lyapunov exponents: ``{"exponents", "stderr", "spread", "times", "running", "steps", "steps_per_step", "exact_tangents", "state_dimension", "dimension", "two_trajectory"}``."""
 
 def section(scene: Scene, spec_json: str) -> Dict[str, Any]:
     """Poincaré section: ``{"name", "columns", "units", "data", "rising"}``."""
 
-def sali(scene: Scene, threshold: float, seed: int, eps: Optional[float] = None, fourth_order: bool = False) -> Tuple[float, Optional[float], float, int]:
-    """Smaller Alignment Index: ``(sali, chaotic_at, min, steps)``."""
+def sali(
+    scene: Scene, threshold: float, seed: int, eps: Optional[float] = None, fourth_order: bool = False, differenced: bool = False
+) -> Tuple[float, Optional[float], float, int, bool]:
+    """Smaller Alignment Index: ``(sali, chaotic_at, min, steps, exact_tangents)``."""
 
-def gali(scene: Scene, k: Optional[int], threshold: float, seed: int, eps: Optional[float], fourth_order: bool, quotient: bool) -> Dict[str, Any]:
-    """GALI_k: ``{"k", "gali", "log10", "below_at", "times", "running_log10", "steps", "steps_per_step", "dimension"}``."""
+def gali(
+    scene: Scene, k: Optional[int], threshold: float, seed: int, eps: Optional[float], fourth_order: bool, quotient: bool, differenced: bool = False
+) -> Dict[str, Any]:
+    """GALI_k: ``{"k", "gali", "log10", "below_at", "times", "running_log10", "steps", "steps_per_step", "dimension", "exact_tangents"}``."""
     ...
 
-def megno(scene: Scene, seed: int, eps: Optional[float], fourth_order: bool) -> Dict[str, Any]:
-    """MEGNO: ``{"megno", "mean", "slope", "lyapunov", "times", "running_megno", "running_mean", "steps", "steps_per_step"}``."""
+def megno(scene: Scene, seed: int, eps: Optional[float], fourth_order: bool, differenced: bool = False) -> Dict[str, Any]:
+    """MEGNO: ``{"megno", "mean", "slope", "lyapunov", "times", "running_megno", "running_mean", "steps", "steps_per_step", "exact_tangents"}``."""
 
 def chaos_map(
     scene: Scene,
@@ -167,5 +172,6 @@ def chaos_map(
     fourth_order: bool,
     threads: Optional[int],
     oversubscribe: bool,
+    differenced: bool = False,
 ) -> Dict[str, Any]:
     """SALI, MEGNO and GALI_k of every member of a table: ``{"sali", "sali_min", "chaotic_at", "sali_steps", "megno", "megno_mean", "megno_slope", "lyapunov", "megno_steps", "gali_log10", "gali_below_at", "gali_steps", "status", "status_names", "errors"}``."""

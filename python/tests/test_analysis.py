@@ -18,7 +18,8 @@ def test_lyapunov_full_spectrum_arrays():
     assert r.exponents.shape == (5,) and r.stderr.shape == (5,) and r.spread.shape == (5,)
     assert r.running.shape == (len(r.times), 5)
     assert np.array_equal(r.running[-1], r.exponents)
-    assert r.steps == 2000 and r.steps_per_step == 11
+    # Exact tangent maps (RKMK4 on the tangent group): 1 + 1 step per vector.
+    assert r.steps == 2000 and r.steps_per_step == 6 and r.exact_tangents
     assert r.two_trajectory is None
     # Integrable (Bertrand) orbit: the maximal exponent is small and the sum vanishes.
     assert abs(r.exponents.sum()) < 1e-6
@@ -26,7 +27,14 @@ def test_lyapunov_full_spectrum_arrays():
     # The phase space's spectrum: 4 exponents, no gauge zero, the same steps.
     q = fd.lyapunov(scene, exponents="all", quotient=True)
     assert (q.dimension, q.state_dimension, q.exponents.shape, q.steps) == (4, 5, (4,), r.steps)
-    assert q.steps_per_step == 9
+    assert q.steps_per_step == 5
+    # Differenced on request: 2 steps per vector, the same spectrum to the
+    # differences' error (about 1e-10 per step, relative).
+    dif = fd.lyapunov(scene, exponents="all", differenced=True)
+    assert dif.steps_per_step == 11 and not dif.exact_tangents
+    assert np.max(np.abs(dif.exponents - r.exponents)) < 1e-6, (dif.exponents, r.exponents)
+    with pytest.raises(TypeError, match="differenced"):
+        fd.lyapunov(scene, differenced=1)
     with pytest.raises(fd.InvalidInputError, match="between 1 and 4"):
         fd.lyapunov(scene, exponents=5, quotient=True)
     with pytest.raises(TypeError, match="quotient"):
@@ -133,17 +141,21 @@ def test_megno_regular_and_chaotic_scenes():
     regular = fd.megno(fd.Scene.from_dict(d))
     assert isinstance(regular, fd.MegnoResult)
     assert abs(regular.mean - 2.0) < 0.1 and abs(regular.slope) < 0.005
-    assert regular.steps == 40000 and regular.steps_per_step == 3
+    assert regular.steps == 40000 and regular.steps_per_step == 2 and regular.exact_tangents
     assert regular.running_mean.shape == regular.times.shape == regular.running_megno.shape
     assert regular.times[-1] == 200.0 and regular.running_mean[-1] == regular.mean
     # Chaotic: <Y> = 16.9 at T = 300, twice its slope 0.083 (lambda_1 ~ 0.1).
     tilted = fd.Scene.from_toml(TILTED_GYROSCOPE)
     chaotic = fd.megno(tilted)
     assert chaotic.mean > 10.0 and 2.0 * chaotic.slope > 0.05, (chaotic.mean, chaotic.slope)
-    # Fourth-order differences: the same indicator to 1e-6 (the linearisation's error, not the dynamics).
-    fourth = fd.megno(tilted, fourth_order=True)
-    assert fourth.steps_per_step == 5
-    assert abs(fourth.mean - chaotic.mean) < 1e-6 * chaotic.mean
+    # Differences of the step map (second and fourth order) against the
+    # exact tangent maps: the same indicator to 1e-6 (the linearisation's
+    # error, not the dynamics).
+    second = fd.megno(tilted, differenced=True)
+    fourth = fd.megno(tilted, fourth_order=True, differenced=True)
+    assert (second.steps_per_step, fourth.steps_per_step) == (3, 5) and not fourth.exact_tangents
+    for other in (second, fourth):
+        assert abs(other.mean - chaotic.mean) < 1e-6 * chaotic.mean, (other.mean, chaotic.mean)
     kepler = fd.Scene.example("s2-point-kepler")
     with pytest.raises(ValueError, match="eps"):
         fd.megno(kepler, eps=0.5)
@@ -275,16 +287,16 @@ def test_gali_chaotic_regular_and_bad_input():
     assert isinstance(g2, fd.GaliResult) and g2.k == 2 and g2.steps == s["steps"]
     expected = s["sali"] * np.sqrt(1.0 - s["sali"] ** 2 / 4.0)
     assert abs(g2.gali / expected - 1.0) < 1e-6, (g2.gali, expected)
-    assert g2.steps_per_step == 5 and g2.times[-1] == 300.0 and g2.running_log10[-1] == g2.log10
+    assert g2.steps_per_step == 3 and g2.exact_tangents and s["exact_tangents"] and g2.times[-1] == 300.0 and g2.running_log10[-1] == g2.log10
     # Chaotic: GALI_3 falls below 1e-12 exponentially; the run stops there.
     g3 = fd.gali(tilted, k=3)
     assert g3.below_at is not None and g3.log10 < -12.0 and g3.times[-1] == g3.below_at
     # "all": the phase space's dimension (the state group's 7 less the
     # parallel frame's gauge direction), or the group's on the stored state.
     full = fd.gali(tilted, k="all", threshold=1e-300)
-    assert (full.k, full.dimension, full.steps_per_step) == (6, 6, 13)
+    assert (full.k, full.dimension, full.steps_per_step) == (6, 6, 7)
     stored = fd.gali(tilted, k="all", threshold=1e-300, quotient=False)
-    assert (stored.k, stored.dimension, stored.steps_per_step) == (7, 7, 15)
+    assert (stored.k, stored.dimension, stored.steps_per_step) == (7, 7, 8)
     # Regular (Kepler, a Bertrand orbit): in the phase space GALI_2 falls
     # like 1/t (one drifting direction), not exponentially; on the stored
     # state the holonomy angle's drift keeps it of order 1.

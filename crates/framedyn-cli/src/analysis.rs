@@ -3,10 +3,10 @@
 //!
 //! ```text
 //! framedyn lyapunov SCENE [--exponents K|all] [--every N] [--transient T] [--batches B] [--seed S]
-//!                         [--eps E] [--fourth-order] [--two-trajectory] [--output RUNNING.csv]
-//! framedyn sali SCENE [--threshold X] [--seed S] [--eps E] [--fourth-order]
+//!                         [--eps E] [--fourth-order] [--differenced] [--two-trajectory] [--output RUNNING.csv]
+//! framedyn sali SCENE [--threshold X] [--seed S] [--eps E] [--fourth-order] [--differenced]
 //!                     [--table MEMBERS.csv|npz [--output MAP.csv] [--threads N] [--oversubscribe]]
-//! framedyn megno SCENE [--seed S] [--eps E] [--fourth-order] [--output RUNNING.csv]
+//! framedyn megno SCENE [--seed S] [--eps E] [--fourth-order] [--differenced] [--output RUNNING.csv]
 //!                      [--table MEMBERS.csv|npz [--output MAP.csv] [--threads N] [--oversubscribe]]
 //! framedyn section SCENE [--event NAME | --plane NX,NY,NZ[,NW] [--offset C] | --column NAME --value V]
 //!                        [--direction rising|falling|either] [--output SECTION.csv]
@@ -64,12 +64,15 @@ pub struct TangentArgs {
     /// Fourth-order central differences (twice the cost).
     #[arg(long)]
     pub fourth_order: bool,
+    /// Difference the step maps even where the exact tangent maps exist (for comparison).
+    #[arg(long)]
+    pub differenced: bool,
 }
 
 impl TangentArgs {
     /// The linearisation of the step map these options ask for.
     fn linearisation(&self) -> Linearisation {
-        Linearisation::chosen(self.fourth_order, self.eps)
+        Linearisation::chosen(self.fourth_order, self.eps, self.differenced)
     }
 }
 
@@ -211,6 +214,7 @@ pub fn lyapunov(scene: &Scene, origin: &str, args: &LyapunovArgs) -> Result<(), 
         println!("state dimension: {dof} (exponents computed: {})", e.exponents.len());
     }
     println!("steps:           {} {} ({} method steps each)", e.steps, describe(&opts.step), e.steps_per_step);
+    println!("tangent maps:    {}", e.linearisation.describe());
     println!("wall time:       {wall:.3} s");
     println!("{:>3}  {:>12}  {:>10}  {:>10}", "i", "exponent", "stderr", "spread");
     for (i, ((l, s), w)) in e.exponents.iter().zip(&e.stderr).zip(&e.spread).enumerate() {
@@ -256,6 +260,7 @@ pub fn sali(scene: &Scene, origin: &str, args: &SaliArgs) -> Result<(), (u8, Str
     let e = scene.sali(&opts, cancel).map_err(|e| error(origin, e))?;
     println!("scene:           {origin}");
     println!("steps:           {} {}", e.steps, describe(&opts.step));
+    println!("tangent maps:    {}", e.linearisation.describe());
     println!("wall time:       {:.3} s", started.elapsed().as_secs_f64());
     println!("sali:            {:.6e} (at the end of the run)", e.sali);
     println!("min:             {:.6e}", e.min);
@@ -299,6 +304,7 @@ pub fn megno(scene: &Scene, origin: &str, args: &MegnoArgs) -> Result<(), (u8, S
     }
     println!("scene:           {origin}");
     println!("steps:           {} {} ({} method steps each)", e.steps, describe(&opts.step), e.steps_per_step);
+    println!("tangent maps:    {}", e.linearisation.describe());
     println!("wall time:       {wall:.3} s");
     println!("megno:           {:.6} (Y at the end of the run)", e.megno);
     println!("mean:            {:.6} (<Y>: 2 quasi-periodic, 0 stable periodic, ~lambda_1 t/2 chaotic)", e.mean);
@@ -357,6 +363,7 @@ pub fn gali(scene: &Scene, origin: &str, args: &GaliArgs) -> Result<(), (u8, Str
     }
     println!("scene:           {origin}");
     println!("steps:           {} {} ({} method steps each)", e.steps, describe(&opts.step), e.steps_per_step);
+    println!("tangent maps:    {}", e.linearisation.describe());
     println!("wall time:       {wall:.3} s");
     let dof = scene.state_dimension().map_err(|e| error(origin, e.into()))?;
     if args.quotient {

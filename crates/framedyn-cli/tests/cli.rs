@@ -768,6 +768,7 @@ fn lyapunov_prints_the_spectrum_and_writes_running_estimates() {
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     let out = stdout(&o);
     assert!(out.contains("state dimension: 5 (exponents computed: 5)"), "{out}");
+    assert!(out.contains("(6 method steps each)") && out.contains("tangent maps:    exact (the method on the tangent group)"), "{out}");
     let (header, rows) = read_csv(&dir.join("run.csv"));
     assert_eq!(header, ["t", "lambda_1", "lambda_2", "lambda_3", "lambda_4", "lambda_5"]);
     let scene = example("s2-point-kepler").unwrap();
@@ -777,6 +778,11 @@ fn lyapunov_prints_the_spectrum_and_writes_running_estimates() {
     for (i, l) in e.exponents.iter().enumerate() {
         assert!(out.contains(&format!("{:>3}  {l:>12.6}", i + 1)), "exponent {i} missing from:\n{out}");
     }
+    // Differenced on request: 2 steps per vector, named in the summary.
+    let o = framedyn(&["lyapunov", "s2-point-kepler", "-k", "all", "--differenced", "--fourth-order"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(out.contains("(21 method steps each)") && out.contains("tangent maps:    central differences of order 4, eps = 1e-3"), "{out}");
     let o = framedyn(&["lyapunov", "s2-point-kepler", "--two-trajectory"], &dir);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     assert!(stdout(&o).contains("two trajectories:"), "{}", stdout(&o));

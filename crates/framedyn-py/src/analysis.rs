@@ -43,7 +43,7 @@ fn matrix<'py>(py: Python<'py>, rows: &[Vec<f64>], width: usize) -> PyResult<Bou
 /// The Lyapunov exponents of a scene (see `framedyn.lyapunov`): a dict of
 /// arrays.
 #[pyfunction]
-#[pyo3(signature = (scene, exponents, every, transient, batches, seed, eps, fourth_order, two_trajectory, quotient))]
+#[pyo3(signature = (scene, exponents, every, transient, batches, seed, eps, fourth_order, two_trajectory, quotient, differenced=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn lyapunov<'py>(
     py: Python<'py>,
@@ -57,6 +57,7 @@ pub fn lyapunov<'py>(
     fourth_order: bool,
     two_trajectory: bool,
     quotient: bool,
+    differenced: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene.inner.clone();
     let (dof, e, two) = run_interruptibly(py, move |cancel| {
@@ -72,7 +73,7 @@ pub fn lyapunov<'py>(
         opts.transient = transient;
         opts.batches = batches;
         opts.seed = seed;
-        opts.linearisation = Linearisation::chosen(fourth_order, eps);
+        opts.linearisation = Linearisation::chosen(fourth_order, eps, differenced);
         let e = scene.lyapunov(&opts, cancel)?;
         let two = if two_trajectory {
             let mut o = scene.two_trajectory_options()?;
@@ -95,6 +96,7 @@ pub fn lyapunov<'py>(
     d.set_item("running", matrix(py, &e.running, k)?)?;
     d.set_item("steps", e.steps)?;
     d.set_item("steps_per_step", e.steps_per_step)?;
+    d.set_item("exact_tangents", e.linearisation.exact)?;
     d.set_item("state_dimension", dof)?;
     d.set_item("dimension", e.dimension)?;
     match two {
@@ -131,31 +133,31 @@ pub fn section<'py>(py: Python<'py>, scene: &PyScene, spec_json: &str) -> PyResu
 }
 
 /// The Smaller Alignment Index of a scene (see `framedyn.sali`):
-/// `(sali, chaotic_at, min, steps)`.
+/// `(sali, chaotic_at, min, steps, exact_tangents)`.
 #[pyfunction]
-#[pyo3(signature = (scene, threshold, seed, eps=None, fourth_order=false))]
-pub fn sali(py: Python<'_>, scene: &PyScene, threshold: f64, seed: u64, eps: Option<f64>, fourth_order: bool) -> PyResult<(f64, Option<f64>, f64, usize)> {
+#[pyo3(signature = (scene, threshold, seed, eps=None, fourth_order=false, differenced=false))]
+pub fn sali(py: Python<'_>, scene: &PyScene, threshold: f64, seed: u64, eps: Option<f64>, fourth_order: bool, differenced: bool) -> PyResult<(f64, Option<f64>, f64, usize, bool)> {
     let scene = scene.inner.clone();
     let e = run_interruptibly(py, move |cancel| {
         let mut opts = scene.sali_options()?;
         opts.threshold = threshold;
         opts.seed = seed;
-        opts.linearisation = Linearisation::chosen(fourth_order, eps);
+        opts.linearisation = Linearisation::chosen(fourth_order, eps, differenced);
         scene.sali(&opts, cancel)
     })?;
-    Ok((e.sali, e.chaotic_at, e.min, e.steps))
+    Ok((e.sali, e.chaotic_at, e.min, e.steps, e.linearisation.exact))
 }
 
 /// MEGNO of a scene (see `framedyn.megno`): a dict of its values and running
 /// arrays.
 #[pyfunction]
-#[pyo3(signature = (scene, seed, eps, fourth_order))]
-pub fn megno<'py>(py: Python<'py>, scene: &PyScene, seed: u64, eps: Option<f64>, fourth_order: bool) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (scene, seed, eps, fourth_order, differenced=false))]
+pub fn megno<'py>(py: Python<'py>, scene: &PyScene, seed: u64, eps: Option<f64>, fourth_order: bool, differenced: bool) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene.inner.clone();
     let e = run_interruptibly(py, move |cancel| {
         let mut opts = scene.megno_options()?;
         opts.seed = seed;
-        opts.linearisation = Linearisation::chosen(fourth_order, eps);
+        opts.linearisation = Linearisation::chosen(fourth_order, eps, differenced);
         scene.megno(&opts, cancel)
     })?;
     let d = PyDict::new(py);
@@ -168,6 +170,7 @@ pub fn megno<'py>(py: Python<'py>, scene: &PyScene, seed: u64, eps: Option<f64>,
     d.set_item("running_mean", PyArray1::from_vec(py, e.running_mean))?;
     d.set_item("steps", e.steps)?;
     d.set_item("steps_per_step", e.steps_per_step)?;
+    d.set_item("exact_tangents", e.linearisation.exact)?;
     Ok(d)
 }
 
@@ -175,9 +178,9 @@ pub fn megno<'py>(py: Python<'py>, scene: &PyScene, seed: u64, eps: Option<f64>,
 /// running arrays (`k = None`: the dimension of the space the vectors live
 /// in, the phase space's with `quotient`, else the state group's).
 #[pyfunction]
-#[pyo3(signature = (scene, k, threshold, seed, eps, fourth_order, quotient))]
+#[pyo3(signature = (scene, k, threshold, seed, eps, fourth_order, quotient, differenced=false))]
 #[allow(clippy::too_many_arguments)]
-pub fn gali<'py>(py: Python<'py>, scene: &PyScene, k: Option<usize>, threshold: f64, seed: u64, eps: Option<f64>, fourth_order: bool, quotient: bool) -> PyResult<Bound<'py, PyDict>> {
+pub fn gali<'py>(py: Python<'py>, scene: &PyScene, k: Option<usize>, threshold: f64, seed: u64, eps: Option<f64>, fourth_order: bool, quotient: bool, differenced: bool) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene.inner.clone();
     let (k, e) = run_interruptibly(py, move |cancel| {
         let k = match k {
@@ -188,7 +191,7 @@ pub fn gali<'py>(py: Python<'py>, scene: &PyScene, k: Option<usize>, threshold: 
         let mut opts = scene.gali_options(k)?;
         opts.threshold = threshold;
         opts.seed = seed;
-        opts.linearisation = Linearisation::chosen(fourth_order, eps);
+        opts.linearisation = Linearisation::chosen(fourth_order, eps, differenced);
         opts.quotient = quotient;
         Ok((k, scene.gali(&opts, cancel)?))
     })?;
@@ -202,6 +205,7 @@ pub fn gali<'py>(py: Python<'py>, scene: &PyScene, k: Option<usize>, threshold: 
     d.set_item("steps", e.steps)?;
     d.set_item("steps_per_step", e.steps_per_step)?;
     d.set_item("dimension", e.dimension)?;
+    d.set_item("exact_tangents", e.linearisation.exact)?;
     Ok(d)
 }
 
@@ -211,7 +215,7 @@ pub fn gali<'py>(py: Python<'py>, scene: &PyScene, k: Option<usize>, threshold: 
 /// members' status codes and messages. Ctrl-C stops the running members
 /// and raises `KeyboardInterrupt`.
 #[pyfunction]
-#[pyo3(signature = (scene, names, columns, sali, megno, gali, threshold, gali_threshold, gali_quotient, seed, eps, fourth_order, threads, oversubscribe))]
+#[pyo3(signature = (scene, names, columns, sali, megno, gali, threshold, gali_threshold, gali_quotient, seed, eps, fourth_order, threads, oversubscribe, differenced=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn chaos_map<'py>(
     py: Python<'py>,
@@ -229,9 +233,10 @@ pub fn chaos_map<'py>(
     fourth_order: bool,
     threads: Option<usize>,
     oversubscribe: bool,
+    differenced: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let table = crate::ensemble::table(py, names, &columns)?;
-    let linearisation = Linearisation::chosen(fourth_order, eps);
+    let linearisation = Linearisation::chosen(fourth_order, eps, differenced);
     let opts = ChaosMapOptions { sali, megno, gali, threshold, gali_threshold, gali_quotient, seed, linearisation, threads, oversubscribe };
     let base = scene.inner.clone();
     let m = run_interruptibly(py, move |cancel| Ok(map_core(&base, &table, &opts, cancel)?))?;

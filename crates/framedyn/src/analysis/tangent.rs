@@ -77,13 +77,18 @@ impl Linearisation {
     }
 
     /// [`fourth_order`](Self::fourth_order) if `fourth_order`, else the
-    /// default, with `ε = eps` if given (the options `--fourth-order` and
-    /// `--eps` of the CLI, `fourth_order` and `eps` of the Python functions;
-    /// checked by [`validate`](Self::validate) where it is used).
-    pub fn chosen(fourth_order: bool, eps: Option<f64>) -> Self {
+    /// default, with `ε = eps` if given, [`differenced`](Self::differenced)
+    /// if `differenced` (the options `--fourth-order`, `--eps` and
+    /// `--differenced` of the CLI, `fourth_order`, `eps` and `differenced`
+    /// of the Python functions; checked by [`validate`](Self::validate)
+    /// where it is used).
+    pub fn chosen(fourth_order: bool, eps: Option<f64>, differenced: bool) -> Self {
         let mut l = if fourth_order { Linearisation::fourth_order() } else { Linearisation::default() };
         if let Some(eps) = eps {
             l.eps = eps;
+        }
+        if differenced {
+            l = l.differenced();
         }
         l
     }
