@@ -16,6 +16,15 @@
 //! baseline of these rows (`FRAMEDYN_RATIOS_FILTER=project_energy` runs them
 //! alone and prints them).
 //!
+//! Rows `tangent_exact` and `tangent_differenced`: one step of RKMK4 with
+//! one tangent vector carried (`TangentFlow`, as the analyses step it) —
+//! exact (the lift on the tangent group) and by second-order central
+//! differences — against one plain RKMK4 step of the same model, the
+//! baseline of these rows (`FRAMEDYN_RATIOS_FILTER=tangent` runs them
+//! alone). A run with `k` vectors pays the per-vector part `k` times. Row
+//! `tangent_field`: one `System::tangent_field` (the vector field and its
+//! exact derivative along one direction) against one `vector_field`.
+//!
 //! In test mode (`cargo test --all-targets`, no `--bench` argument)
 //! criterion runs each bench once and the ratio table is skipped.
 //!
@@ -410,6 +419,46 @@ where
     )
 }
 
+/// One `tangent_field` (along a direction with every coordinate non-zero)
+/// against one `vector_field` of the same model.
+fn tangent_field_row<S: System>(sys: &S, y0: &S::State) -> (f64, f64, f64) {
+    let xi = S::State::algebra_from_coords(&(0..S::State::DOF).map(|i| 1.0 / (1.0 + i as f64)).collect::<Vec<_>>());
+    assert!(sys.tangent_field(0.0, y0, &xi).is_some(), "the model has an exact tangent field");
+    ratio_row_against(
+        || {
+            black_box(sys.vector_field(0.0, black_box(y0)));
+        },
+        || {
+            black_box(sys.tangent_field(0.0, black_box(y0), black_box(&xi)));
+        },
+    )
+}
+
+/// One RKMK4 step carrying one tangent vector (exact, or differenced with
+/// `differenced`) against one plain RKMK4 step of the same model.
+fn tangent_row<S>(sys: &S, y0: &S::State, differenced: bool) -> (f64, f64, f64)
+where
+    S: System,
+    S::State: GroupNumerics,
+{
+    use framedyn::analysis::{Linearisation, TangentFlow};
+    let m = Rkmk::rk4();
+    let lin = if differenced { Linearisation::default().differenced() } else { Linearisation::default() };
+    let dof = S::State::DOF;
+    let col = nalgebra::DMatrix::from_fn(dof, 1, |i, _| 1.0 / (1.0 + i as f64));
+    let flow = TangentFlow::new(sys, &m, 0.0, *y0, col, lin).expect("tangent flow");
+    assert_eq!(flow.linearisation().exact, !differenced, "the row measures what it names");
+    ratio_row_against(
+        || {
+            black_box(m.step(sys, 0.0, black_box(y0), H, StepRequest::plain()).map(|o| o.y).ok());
+        },
+        || {
+            let mut f = flow.clone();
+            black_box(f.step(H).ok());
+        },
+    )
+}
+
 /// `FRAMEDYN_RATIOS_FILTER=<text>` keeps only the rows whose
 /// `system/method` contains `<text>` (profiling one step); the CSV is then
 /// not written.
@@ -446,6 +495,16 @@ fn ratio_table() {
             if wanted($name, "project_energy") {
                 let (o, b, q) = projection_row(&sys, &y0);
                 rows.push(($name.to_string(), "project_energy".into(), o, b, q));
+            }
+            if wanted($name, "tangent_field") {
+                let (o, b, q) = tangent_field_row(&sys, &y0);
+                rows.push(($name.to_string(), "tangent_field".into(), o, b, q));
+            }
+            for (row, differenced) in [("tangent_exact", false), ("tangent_differenced", true)] {
+                if wanted($name, row) {
+                    let (o, b, q) = tangent_row(&sys, &y0, differenced);
+                    rows.push(($name.to_string(), row.into(), o, b, q));
+                }
             }
         }};
     }
@@ -545,6 +604,10 @@ fn ratio_table() {
             "hand_strang"
         } else if m == "project_energy" {
             "dop853"
+        } else if m == "tangent_field" {
+            "rhs"
+        } else if m.starts_with("tangent_") {
+            "rkmk4"
         } else {
             "hand_rkmk4"
         };

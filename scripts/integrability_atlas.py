@@ -153,11 +153,11 @@ def atlas():
     for name, claim, make in CASES:
         s = make()
         t_end = s.to_dict()["time"]["t_end"]
-        r = fd.lyapunov(s, two_trajectory=True)
+        r = fd.lyapunov(s, two_trajectory=True, **TANGENTS)
         g = growth(r, t_end)
         lam, se = float(r.exponents[0]), float(r.stderr[0])
         two = r.two_trajectory
-        si = fd.sali(s)
+        si = fd.sali(s, **TANGENTS)
         if abs(g - 1.0) < 0.3:
             verdict = "regular"
         elif g > 3.0 and lam > 5.0 * se:
@@ -199,8 +199,8 @@ def cost():
             return float(np.median(ts)), out
 
         plain, _ = best(lambda: fd.solve(s))
-        one, r1 = best(lambda: fd.lyapunov(s, exponents=1))
-        full, rk = best(lambda: fd.lyapunov(s, exponents="all"))
+        one, r1 = best(lambda: fd.lyapunov(s, exponents=1, **TANGENTS))
+        full, rk = best(lambda: fd.lyapunov(s, exponents="all", **TANGENTS))
         rows.append(
             {
                 "scene": name,
@@ -380,10 +380,15 @@ def centres(lo, hi, n):
     return lo + (hi - lo) * (np.arange(n) + 0.5) / n
 
 
+def _set_tangents(tangents):
+    """Worker initializer: the parent's TANGENTS (spawned workers start afresh)."""
+    TANGENTS.update(tangents)
+
+
 def pool_map(f, tasks, workers):
     if workers <= 1:
         return [f(t) for t in tasks]
-    with get_context("spawn").Pool(workers) as pool:
+    with get_context("spawn").Pool(workers, initializer=_set_tangents, initargs=(dict(TANGENTS),)) as pool:
         return pool.map(f, tasks, chunksize=1)
 
 
@@ -411,7 +416,7 @@ def run_chaos_map(base, table, what):
     MEGNO_CHAOTIC) of every member. Stops the script if a member did not
     finish (`what` names the map)."""
     w0, c0 = time.perf_counter(), time.process_time()
-    m = fd.chaos_map(base, table, threshold=MAP_THRESHOLD)
+    m = fd.chaos_map(base, table, threshold=MAP_THRESHOLD, **TANGENTS)
     wall, cpu = time.perf_counter() - w0, time.process_time() - c0
     if not m.ok.all():
         bad = np.flatnonzero(~m.ok)
@@ -895,8 +900,13 @@ def floor_cases(t_end):
     ]
 
 
-# The linearisations of the floor check: (difference formula, ε).
-FLOOR_LINEARISATIONS = [("central2", 1e-5), ("central2", 1e-3), ("central4", 1e-3)]
+# Keyword arguments of every analysis call: {"differenced": True} with
+# --differenced (set before any worker process is forked).
+TANGENTS: dict = {}
+
+# The linearisations of the floor check: (difference formula, ε); "exact"
+# is the method on the tangent group (ε unused).
+FLOOR_LINEARISATIONS = [("central2", 1e-5), ("central2", 1e-3), ("central4", 1e-3), ("exact", float("nan"))]
 
 
 def sali_floor(quick):
@@ -907,7 +917,11 @@ def sali_floor(quick):
     rows = []
     for _, name, h, s in floor_cases(t_end):
         for formula, eps in FLOOR_LINEARISATIONS:
-            r = fd.sali(s, threshold=1e-300, eps=eps, fourth_order=formula == "central4")
+            if formula == "exact":
+                r = fd.sali(s, threshold=1e-300)
+                assert r["exact_tangents"], "the floor cases have exact tangent maps"
+            else:
+                r = fd.sali(s, threshold=1e-300, eps=eps, fourth_order=formula == "central4", differenced=True)
             rows.append({"case": name, "h": h, "T": t_end, "difference": formula, "eps": eps, "sali_min": r["min"], "sali_end": r["sali"], "below_1e-8": r["min"] < 1e-8})
             print(f"floor {name} h = {h} {formula} eps = {eps:g}: min {r['min']:.2e}", file=sys.stderr)
     return rows
@@ -951,7 +965,7 @@ def point_orbit(task, h=POINT_SECTION_H):
     phi_dot = math.sqrt(kinetic - rdot0**2) / math.sin(r0)
     initial = {"initial.r": r0, "initial.r_dot": rdot0, "initial.phi": 0.0, "initial.phi_dot": phi_dot}
     sec = fd.section(scene(example, t_end, **initial, **{"method.h": h}), plane=[0.0, 1.0, 0.0], direction="rising")
-    r = fd.sali(scene(example, t_end, **initial), threshold=MAP_THRESHOLD)
+    r = fd.sali(scene(example, t_end, **initial), threshold=MAP_THRESHOLD, **TANGENTS)
     return orbit_row(name, sec, r0, rdot0, sec.column("r"), sec.column("r_dot"), r)
 
 
@@ -981,7 +995,7 @@ def gyro_orbit(task):
     sec = fd.section(s, plane=[0.0, 1.0, 0.0], direction="rising")
     x0, x2, v0, v2 = (sec.column(c) for c in ("x0", "x2", "v0", "v2"))
     q, p = np.arctan2(x0, x2), x2 * v0 - x0 * v2
-    r = fd.sali(gyro_scene(eps, theta, v_theta, min(t_end, 500.0)), threshold=MAP_THRESHOLD)
+    r = fd.sali(gyro_scene(eps, theta, v_theta, min(t_end, 500.0)), threshold=MAP_THRESHOLD, **TANGENTS)
     model = "S² gyroscope, separable" if eps == 0.0 else f"S² gyroscope, tilted (ε = {eps})"
     return orbit_row(model, sec, theta, v_theta, q, p, r)
 
@@ -1139,7 +1153,7 @@ def degeneracy(quick, data):
         sc = scene(name, t_end, **{"method.name": "dop853", "method.h": None, "method.rtol": 1e-10, "method.atol": 1e-10, **changes})
         row = {"case": case, "paper": claim, "T": t_end}
         for k, quotient in ((2, True), (3, True), (2, False)):
-            g = fd.gali(sc, k=k, threshold=1e-300, quotient=quotient)
+            g = fd.gali(sc, k=k, threshold=1e-300, quotient=quotient, **TANGENTS)
             key = f"gali{k}_{'phase' if quotient else 'stored'}"
             row[f"{key}_slope_100_1000"] = window_slope(g, 100.0, 1000.0)
             row[f"{key}_slope_1000_T"] = window_slope(g, 1000.0, t_end)
@@ -1160,15 +1174,21 @@ def degeneracy(quick, data):
     return rows
 
 
-def leveling(t_end, data, tol=1e-10, fourth_order=False):
+def leveling(t_end, data, tol=1e-10, tangents="exact"):
     """How long the weak twist of V = r²/2 on S² (the scene s2-point-central,
     not a Bertrand potential) keeps GALI₂ falling like 1/t: GALI₂ in the
     phase space to `t_end` (DOP853, tol 1e-10), its log–log slope over each
     decade and its mean over each half-decade window [t/2, t]. A torus with
     twist keeps GALI₂ at a constant once the two drifts separate; a closed
-    orbit (Bertrand) keeps it falling like 1/t."""
+    orbit (Bertrand) keeps it falling like 1/t. `tangents`: "exact" (the
+    method on the tangent group), "central2" or "central4" (differences of
+    the step map)."""
     sc = scene("s2-point-central", t_end, **{"method.name": "dop853", "method.h": None, "method.rtol": tol, "method.atol": tol})
-    g = fd.gali(sc, k=2, threshold=1e-300, quotient=True, fourth_order=fourth_order)
+    if tangents == "exact":
+        g = fd.gali(sc, k=2, threshold=1e-300, quotient=True)
+        assert g.exact_tangents
+    else:
+        g = fd.gali(sc, k=2, threshold=1e-300, quotient=True, fourth_order=tangents == "central4", differenced=True)
     rows = []
     t = 10.0 ** 2.5
     while t <= t_end * (1 + 1e-12):
@@ -1180,10 +1200,10 @@ def leveling(t_end, data, tol=1e-10, fourth_order=False):
             row["slope_over_the_decade_to_t"] = float("nan")
         rows.append(row)
         t *= 10.0 ** 0.5
-    suffix = ("" if tol == 1e-10 else f"_tol{tol:g}") + ("_fourth_order" if fourth_order else "")
+    suffix = ("" if tol == 1e-10 else f"_tol{tol:g}") + {"central2": "", "central4": "_fourth_order", "exact": "_exact"}[tangents]
     write(os.path.join(data, f"integrability_leveling{suffix}.csv"), rows)
-    lin = "fourth-order" if fourth_order else "second-order"
-    print(f"\nGALI₂ (phase space) of V = r²/2 on S² (s2-point-central), DOP853 tol {tol:g}, {lin} differences, T = {t_end:g}, {g.steps} steps:\n")
+    lin = {"central2": "second-order differences", "central4": "fourth-order differences", "exact": "exact tangent maps"}[tangents]
+    print(f"\nGALI₂ (phase space) of V = r²/2 on S² (s2-point-central), DOP853 tol {tol:g}, {lin}, T = {t_end:g}, {g.steps} steps:\n")
     print("| t | mean log10 GALI₂ over [t/2, t] | slope over the decade to t |")
     print("|---|---|---|")
     for r in rows:
@@ -1211,10 +1231,22 @@ def main():
     ap.add_argument("--degeneracy-only", action="store_true", help="the GALI table of maximal degeneracy only (central potentials, phase space against stored state)")
     ap.add_argument("--leveling", type=float, metavar="T", help="GALI₂ of V = r²/2 on S² to T (e.g. 1e7: about 25 minutes), per decade, and stop")
     ap.add_argument("--leveling-tol", type=float, default=1e-10, help="DOP853 tolerance of --leveling (default 1e-10)")
-    ap.add_argument("--leveling-fourth-order", action="store_true", help="--leveling with fourth-order differences for the tangent maps")
+    ap.add_argument(
+        "--leveling-tangents",
+        choices=["exact", "central2", "central4"],
+        default="exact",
+        help="tangent maps of --leveling: exact (default; CSV integrability_leveling_exact.csv), or second- / fourth-order differences of the step (integrability_leveling.csv, ..._fourth_order.csv)",
+    )
+    ap.add_argument(
+        "--differenced",
+        action="store_true",
+        help="every analysis with second-order differences of the step map instead of the exact tangent maps (how the pages' numbers measured before the exact maps were made)",
+    )
     ap.add_argument("--floor-scenes", metavar="DIR", help="write the floor check's orbits as scene files (JSON) into DIR and stop")
     ap.add_argument("--workers", type=int, default=2, help="worker processes for the sections (1 or 2); the maps run on the Rust threads of fd.chaos_map")
     args = ap.parse_args()
+    if args.differenced:
+        TANGENTS["differenced"] = True
     workers = max(1, min(2, args.workers))
     data, figures = DATA, FIGURES
     if args.quick:
@@ -1234,7 +1266,7 @@ def main():
         print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
         return
     if args.leveling:
-        leveling(args.leveling, data, args.leveling_tol, args.leveling_fourth_order)
+        leveling(args.leveling, data, args.leveling_tol, args.leveling_tangents)
         print(f"\nwall time {time.perf_counter() - t0:.0f} s", file=sys.stderr)
         return
     if args.degeneracy_only:

@@ -243,7 +243,7 @@ where
 
 /// A trajectory with tangent vectors carried along: fixed steps of a method
 /// and the tangent map of each step (see the [module documentation](super)).
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct TangentFlow<'a, S: System, M> {
     system: &'a S,
     method: &'a M,
@@ -251,6 +251,13 @@ pub struct TangentFlow<'a, S: System, M> {
     t: f64,
     y: S::State,
     cols: DMatrix<f64>,
+}
+
+/// A copy that shares the system and the method (neither is cloned).
+impl<S: System, M> Clone for TangentFlow<'_, S, M> {
+    fn clone(&self) -> Self {
+        TangentFlow { system: self.system, method: self.method, lin: self.lin, t: self.t, y: self.y, cols: self.cols.clone() }
+    }
 }
 
 impl<'a, S, M> TangentFlow<'a, S, M>
