@@ -14,7 +14,9 @@
 //!
 //! `lyapunov` integrates the scene's trajectory with its method and fixed
 //! step `method.h` over its time span, with tangent vectors (the tangent map
-//! of each step), and prints the exponents, largest first, with their
+//! of each step: exact where the model and the method have it, else — or
+//! with `--differenced` — central differences of the step; the summary's
+//! `tangent maps:` line says which), and prints the exponents, largest first, with their
 //! batch-means standard errors and the spread of the running estimates
 //! over the second half of the run; `--output` writes the running
 //! estimates (`t,lambda_1,…`). `--two-trajectory` adds the maximal exponent
@@ -58,10 +60,10 @@ pub struct TangentArgs {
     /// Seed of the random initial tangent vectors.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Perturbation of the central differences of the step map (default 1e-5; 1e-3 with --fourth-order).
+    /// Perturbation of the central differences of the step map, where the tangent maps are differenced (default 1e-5; 1e-3 with --fourth-order).
     #[arg(long)]
     pub eps: Option<f64>,
-    /// Fourth-order central differences (twice the cost).
+    /// Fourth-order central differences where the tangent maps are differenced (twice their cost).
     #[arg(long)]
     pub fourth_order: bool,
     /// Difference the step maps even where the exact tangent maps exist (for comparison).
