@@ -3,7 +3,7 @@
 
 use super::split::{NoSplit, SplitDispatch};
 use super::System;
-use crate::lie::{AlgebraVector, LieGroup, Tangent, TangentAlgebra};
+use crate::lie::{AlgebraVector, LieGroup, ProductAlgebra, Tangent, TangentAlgebra};
 
 /// The tangent lift of `S`: states `(y, ξ)` of the [`Tangent`] group (a
 /// perturbation `δy = y·ξ`), moving by
@@ -52,9 +52,9 @@ impl<S: System> System for Linearised<'_, S> {
     #[inline]
     fn vector_field(&self, t: f64, y: &Self::State) -> TangentAlgebra<<S::State as LieGroup>::Algebra> {
         match self.system.tangent_field(t, &y.0, &y.1) {
-            Some((f, df)) => TangentAlgebra(f, df),
+            Some((f, df)) => ProductAlgebra(f, df),
             None => {
-                let mut a = TangentAlgebra::zero();
+                let mut a = <TangentAlgebra<<S::State as LieGroup>::Algebra> as AlgebraVector>::zero();
                 for i in 0..<TangentAlgebra<<S::State as LieGroup>::Algebra> as AlgebraVector>::LEN {
                     a.set(i, f64::NAN);
                 }

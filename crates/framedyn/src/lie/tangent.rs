@@ -22,11 +22,9 @@
 //!
 //! Matrix representation: `g·(1 + εξ) ↦ [[g, gξ], [0, g]]` (`ε ↦ [[0, 1], [0, 0]]`).
 
-use std::ops::{Add, Mul, Neg, Sub};
-
 use nalgebra::DMatrix;
 
-use super::{dexp_series, AlgebraVector, LieGroup};
+use super::{dexp_series, AlgebraVector, LieGroup, Product, ProductAlgebra};
 use crate::method::GroupNumerics;
 use crate::Result;
 
@@ -35,78 +33,10 @@ use crate::Result;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tangent<G: LieGroup>(pub G, pub G::Algebra);
 
-/// Algebra of [`Tangent`]: `(a, b)` for `a + εb`; stored components `a`
-/// then `b` (`LEN = 2·A::LEN`), vector-space operations componentwise.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TangentAlgebra<A>(pub A, pub A);
-
-impl<A: AlgebraVector> Add for TangentAlgebra<A> {
-    type Output = Self;
-    #[inline]
-    fn add(self, rhs: Self) -> Self {
-        TangentAlgebra(self.0 + rhs.0, self.1 + rhs.1)
-    }
-}
-
-impl<A: AlgebraVector> Sub for TangentAlgebra<A> {
-    type Output = Self;
-    #[inline]
-    fn sub(self, rhs: Self) -> Self {
-        TangentAlgebra(self.0 - rhs.0, self.1 - rhs.1)
-    }
-}
-
-impl<A: AlgebraVector> Neg for TangentAlgebra<A> {
-    type Output = Self;
-    #[inline]
-    fn neg(self) -> Self {
-        TangentAlgebra(-self.0, -self.1)
-    }
-}
-
-impl<A: AlgebraVector> Mul<f64> for TangentAlgebra<A> {
-    type Output = Self;
-    #[inline]
-    fn mul(self, s: f64) -> Self {
-        TangentAlgebra(self.0 * s, self.1 * s)
-    }
-}
-
-impl<A: AlgebraVector> AlgebraVector for TangentAlgebra<A> {
-    const LEN: usize = 2 * A::LEN;
-    #[inline]
-    fn zero() -> Self {
-        TangentAlgebra(A::zero(), A::zero())
-    }
-    #[inline]
-    fn get(&self, i: usize) -> f64 {
-        if i < A::LEN {
-            self.0.get(i)
-        } else {
-            self.1.get(i - A::LEN)
-        }
-    }
-    #[inline]
-    fn set(&mut self, i: usize, v: f64) {
-        if i < A::LEN {
-            self.0.set(i, v)
-        } else {
-            self.1.set(i - A::LEN, v)
-        }
-    }
-    #[inline]
-    fn norm(&self) -> f64 {
-        self.0.norm().hypot(self.1.norm())
-    }
-    #[inline]
-    fn amax(&self) -> f64 {
-        self.0.amax().max(self.1.amax())
-    }
-    #[inline]
-    fn is_finite(&self) -> bool {
-        self.0.is_finite() && self.1.is_finite()
-    }
-}
+/// Algebra of [`Tangent`]: `(a, b)` for `a + εb`, stored as the vector
+/// space `𝔤 × 𝔤` of [`ProductAlgebra`] (components `a` then `b`); the
+/// bracket is the tangent group's, not the product's.
+pub type TangentAlgebra<A> = ProductAlgebra<A, A>;
 
 /// Terms of the `dexp` series summed for the derivative part of
 /// [`Tangent`]'s `dexp` and `dexp⁻¹` (the series stops earlier once its
@@ -136,38 +66,35 @@ impl<G: LieGroup> LieGroup for Tangent<G> {
     }
     fn log(&self) -> Result<Self::Algebra> {
         let a = self.0.log()?;
-        Ok(TangentAlgebra(a, G::dexp_inv(&(-a), &self.1)))
+        Ok(ProductAlgebra(a, G::dexp_inv(&(-a), &self.1)))
     }
     #[inline]
     fn adjoint(&self, a: &Self::Algebra) -> Self::Algebra {
-        TangentAlgebra(self.0.adjoint(&a.0), self.0.adjoint(&(a.1 + G::bracket(&self.1, &a.0))))
+        ProductAlgebra(self.0.adjoint(&a.0), self.0.adjoint(&(a.1 + G::bracket(&self.1, &a.0))))
     }
     #[inline]
     fn bracket(a: &Self::Algebra, b: &Self::Algebra) -> Self::Algebra {
-        TangentAlgebra(G::bracket(&a.0, &b.0), G::bracket(&a.0, &b.1) + G::bracket(&a.1, &b.0))
+        ProductAlgebra(G::bracket(&a.0, &b.0), G::bracket(&a.0, &b.1) + G::bracket(&a.1, &b.0))
     }
     /// `G`'s `dexp_a v` (its closed form), and its derivative
     /// `dexp_a w + (D_a dexp_a v)[b]` from the series of the tangent algebra.
     fn dexp(a: &Self::Algebra, v: &Self::Algebra) -> Self::Algebra {
         let series = dexp_series::<Self>(a, v, DEXP_TERMS);
-        TangentAlgebra(G::dexp(&a.0, &v.0), series.1)
+        ProductAlgebra(G::dexp(&a.0, &v.0), series.1)
     }
     /// `u = dexp⁻¹_a v` by `G`'s closed form; its derivative `u'` from
     /// `v + εw = dexp_{a+εb}(u + εu')`: `u' = dexp⁻¹_a(w − (D_a dexp_a u)[b])`.
     fn dexp_inv(a: &Self::Algebra, v: &Self::Algebra) -> Self::Algebra {
         let u = G::dexp_inv(&a.0, &v.0);
-        let d = dexp_series::<Self>(a, &TangentAlgebra(u, G::Algebra::zero()), DEXP_TERMS).1;
-        TangentAlgebra(u, G::dexp_inv(&a.0, &(v.1 - d)))
+        let d = dexp_series::<Self>(a, &ProductAlgebra(u, G::Algebra::zero()), DEXP_TERMS).1;
+        ProductAlgebra(u, G::dexp_inv(&a.0, &(v.1 - d)))
     }
-    /// `G`'s coordinates of `a`, then those of `b`.
+    /// `G`'s coordinates of `a`, then those of `b`: those of `G × G`.
     fn algebra_from_coords(c: &[f64]) -> Self::Algebra {
-        let k = G::DOF.min(c.len());
-        TangentAlgebra(G::algebra_from_coords(&c[..k]), G::algebra_from_coords(&c[k..]))
+        Product::<G, G>::algebra_from_coords(c)
     }
     fn algebra_coords(a: &Self::Algebra) -> Vec<f64> {
-        let mut c = G::algebra_coords(&a.0);
-        c.extend(G::algebra_coords(&a.1));
-        c
+        Product::<G, G>::algebra_coords(a)
     }
     /// `[[g, gξ], [0, g]]`.
     fn to_matrix(&self) -> DMatrix<f64> {
@@ -222,7 +149,7 @@ impl<G: GroupNumerics> GroupNumerics for Tangent<G> {
     #[inline]
     fn tolerance_scale(&self) -> Self::Algebra {
         let s = self.0.tolerance_scale();
-        TangentAlgebra(s, s)
+        ProductAlgebra(s, s)
     }
     #[inline]
     fn is_finite(&self) -> bool {
