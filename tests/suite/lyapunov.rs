@@ -163,6 +163,13 @@ fn exact_tangent_maps_are_the_limit_of_the_differences() {
     }
     let (_, split_exact) = map(&tilt, &Splitting::strang(), &y_tilt, 0.05, Linearisation::default());
     assert!(!split_exact, "a splitting's tangent maps are differenced");
+    // One step on its own resolves too: the default on a splitting is the
+    // differences, not an error.
+    let dof = <S2TiltedGyro as System>::State::DOF;
+    let mut one = DMatrix::identity(dof, dof);
+    framedyn::analysis::tangent::step_with_tangents(&tilt, &Splitting::strang(), 0.0, &y_tilt, 0.05, &mut one, &Linearisation::default()).unwrap();
+    let (differenced, _) = map(&tilt, &Splitting::strang(), &y_tilt, 0.05, Linearisation::default().differenced());
+    assert_eq!(one, differenced);
 }
 
 /// A deterministic stream of uniform numbers in [0, 1) (xorshift64*).

@@ -122,7 +122,7 @@ pub struct GaliEstimate {
     pub running_log10: Vec<f64>,
     /// Steps taken.
     pub steps: usize,
-    /// Steps of the method per step (1 + `k` × the difference steps of a column).
+    /// Steps of the method per step (1 + `k` × [`Linearisation::steps_per_column`]).
     pub steps_per_step: usize,
     /// The linearisation used, [`resolve`](Linearisation::resolve)d:
     /// `exact` tells whether the tangent maps were exact or differenced.

@@ -89,7 +89,7 @@ pub struct MegnoEstimate {
     pub running_mean: Vec<f64>,
     /// Steps taken.
     pub steps: usize,
-    /// Steps of the method per step (1 + the difference steps of one column).
+    /// Steps of the method per step (1 + [`Linearisation::steps_per_column`]).
     pub steps_per_step: usize,
     /// The linearisation used, [`resolve`](Linearisation::resolve)d:
     /// `exact` tells whether the tangent maps were exact or differenced.

@@ -55,7 +55,8 @@ impl Linearisation {
     pub const MIN_EPS: f64 = 1e-12;
 
     /// Fourth-order central differences with `ε = 1e-3` (about `1e-12`
-    /// relative per step, twice the cost of the default).
+    /// relative per step, twice the cost of second-order differences) where
+    /// the tangent maps are differenced; exact where they can be.
     pub fn fourth_order() -> Self {
         Linearisation { difference: Difference::Central4, eps: 1e-3, exact: true }
     }
@@ -136,7 +137,7 @@ where
     M: Method<S>,
 {
     let zero = <<S::State as LieGroup>::Algebra as AlgebraVector>::zero();
-    system.tangent_field(t0, y0, &zero).is_some() && matches!(method.tangent_step(system, t0, y0, 0.0, &zero), Some(Ok(_)))
+    crate::dynamics::Linearised::new(system, t0, y0).is_some() && matches!(method.tangent_step(system, t0, y0, 0.0, &zero), Some(Ok(_)))
 }
 
 /// The state `y₀·exp(ξ)` for algebra coordinates `ξ`.
@@ -152,7 +153,20 @@ fn difference<G: LieGroup>(y_inv: &G, z: &G) -> Result<DVector<f64>, AnalysisErr
 /// One step of `method` from `(t, y0)` with size `h`, and the images of the
 /// tangent columns `cols` (`DOF` rows, algebra coordinates) under the
 /// step's tangent map, written back into `cols`. Returns the new state.
+/// `lin` is [`resolve`](Linearisation::resolve)d for this step (exact only
+/// where the system and the method have the exact map); a loop over steps
+/// resolves once instead ([`TangentFlow`]).
 pub fn step_with_tangents<S, M>(system: &S, method: &M, t: f64, y0: &S::State, h: f64, cols: &mut DMatrix<f64>, lin: &Linearisation) -> Result<S::State, AnalysisError>
+where
+    S: System,
+    S::State: GroupNumerics,
+    M: Method<S>,
+{
+    resolved_step(system, method, t, y0, h, cols, &lin.resolve(system, method, t, y0))
+}
+
+/// [`step_with_tangents`] with `lin` already resolved.
+fn resolved_step<S, M>(system: &S, method: &M, t: f64, y0: &S::State, h: f64, cols: &mut DMatrix<f64>, lin: &Linearisation) -> Result<S::State, AnalysisError>
 where
     S: System,
     S::State: GroupNumerics,
@@ -287,7 +301,7 @@ where
             return Err(AnalysisError::invalid("h", h, "finite and ≠ 0"));
         }
         let mut cols = self.cols.clone();
-        let y = step_with_tangents(self.system, self.method, self.t, &self.y, h, &mut cols, &self.lin)?;
+        let y = resolved_step(self.system, self.method, self.t, &self.y, h, &mut cols, &self.lin)?;
         self.y = y;
         self.cols = cols;
         self.t += h;
