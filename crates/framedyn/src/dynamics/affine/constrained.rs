@@ -156,8 +156,8 @@ impl<const N: usize> InternalConstraint<N> for Isochoric {
     }
     /// The derivative of `a = ρ⁻¹Kρ⁻ᵀ`, `G⁻¹ = ρ⁻¹ρ⁻ᵀ`, `c` and
     /// `Ω̂ = (aᵀ + cG⁻¹)J⁻¹` with `δρ = ρX`, `δ(ρ⁻¹) = −Xρ⁻¹`.
-    fn kinematics_derivative(&self, f: &Sl<N>, k: &Mat<N>, inertia: &Inertia<N>, df: &Mat<N>, dk: &Mat<N>) -> Kinematics<Sl<N>, N> {
-        let rho = *f.matrix();
+    fn kinematics_derivative(&self, _f: &Sl<N>, k: &Mat<N>, inertia: &Inertia<N>, kin: &Kinematics<Sl<N>, N>, df: &Mat<N>, dk: &Mat<N>) -> Kinematics<Sl<N>, N> {
+        let rho = kin.rho;
         let rho_inv = inverse(&rho).unwrap_or_else(|| Mat::<N>::from_element(f64::NAN));
         let d_inv = -(df * rho_inv);
         let a = rho_inv * k * rho_inv.transpose();
@@ -168,10 +168,9 @@ impl<const N: usize> InternalConstraint<N> for Isochoric {
         let (num, den) = (trace_of_product(j_inv, &a), trace_of_product(j_inv, &g_inv));
         let c = -num / den;
         let dc = -(trace_of_product(j_inv, &da) - c * -trace_of_product(j_inv, &dg_inv)) / den;
-        let omega = (a.transpose() + g_inv * c) * j_inv;
         let d_omega = (da.transpose() + dg_inv * c + g_inv * dc) * j_inv;
         let d_rho = rho * df;
-        Kinematics { rho: d_rho, rho_dot: d_rho * omega + rho * d_omega, xi: d_omega }
+        Kinematics { rho: d_rho, rho_dot: d_rho * kin.xi + rho * d_omega, xi: d_omega }
     }
     fn momentum_direction(&self, dm: &Mat<N>) -> Mat<N> {
         *dm
@@ -282,8 +281,7 @@ impl<const N: usize> InternalConstraint<N> for Conformal {
     /// With `X = κ_X I + W` (`δλ = κ_X λ`, `δR = RW`): the derivative of
     /// `κ = tr K/(λ² tr J)` and of `Ω̂ = S(−RᵀAR/λ²) + κI`, `A = K − Kᵀ`
     /// (`S` = [`Inertia::solve_rotational`], linear).
-    fn kinematics_derivative(&self, f: &Co<N>, k: &Mat<N>, inertia: &Inertia<N>, df: &Mat<N>, dk: &Mat<N>) -> Kinematics<Co<N>, N> {
-        let kin = self.kinematics(f, k, inertia);
+    fn kinematics_derivative(&self, f: &Co<N>, k: &Mat<N>, inertia: &Inertia<N>, kin: &Kinematics<Co<N>, N>, df: &Mat<N>, dk: &Mat<N>) -> Kinematics<Co<N>, N> {
         let lambda = f.lambda();
         let r = f.rotation().matrix();
         let kx = df.trace() / N as f64;
@@ -424,8 +422,7 @@ impl<const N: usize> InternalConstraint<N> for PureDilatation<N> {
         Kinematics { rho, rho_dot: rho * kappa, xi: SVector::<f64, 1>::new(kappa) }
     }
     /// `δλ = λ δl`, `δκ = tr δK/(λ²c) − 2κ δl`, `δρ = ρ δl`, `δρ̇ = δ(ρκ)`.
-    fn kinematics_derivative(&self, f: &Rn<1>, k: &Mat<N>, inertia: &Inertia<N>, df: &SVector<f64, 1>, dk: &Mat<N>) -> Kinematics<Rn<1>, N> {
-        let kin = self.kinematics(f, k, inertia);
+    fn kinematics_derivative(&self, f: &Rn<1>, _k: &Mat<N>, inertia: &Inertia<N>, kin: &Kinematics<Rn<1>, N>, df: &SVector<f64, 1>, dk: &Mat<N>) -> Kinematics<Rn<1>, N> {
         let lambda = f.0[0].exp();
         let kappa = kin.xi[0];
         let dkappa = dk.trace() / (lambda * lambda * self.dilatational_inertia(inertia)) - 2.0 * kappa * df[0];

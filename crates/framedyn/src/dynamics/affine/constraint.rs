@@ -79,7 +79,8 @@ pub trait InternalConstraint<const N: usize>: Clone + Debug + Send + Sync + 'sta
     /// `(δρ, δρ̇, δΩ̂)` in the fields of a [`Kinematics`] (the exact
     /// derivative of the vector field,
     /// [`System::tangent_field`](crate::dynamics::System::tangent_field)).
-    fn kinematics_derivative(&self, f: &Self::Fibre, k: &Mat<N>, inertia: &Inertia<N>, df: &<Self::Fibre as LieGroup>::Algebra, dk: &Mat<N>) -> Kinematics<Self::Fibre, N>;
+    /// `kin` is `kinematics(f, k, inertia)`, which the caller has.
+    fn kinematics_derivative(&self, f: &Self::Fibre, k: &Mat<N>, inertia: &Inertia<N>, kin: &Kinematics<Self::Fibre, N>, df: &<Self::Fibre as LieGroup>::Algebra, dk: &Mat<N>) -> Kinematics<Self::Fibre, N>;
     /// The matrix of a momentum direction: `d/ds momentum_matrix(m·exp(s·dm))`,
     /// linear in `dm` (the momentum groups are additive).
     fn momentum_direction(&self, dm: &<Self::Momentum as LieGroup>::Algebra) -> Mat<N>;
@@ -141,8 +142,7 @@ impl<const N: usize> InternalConstraint<N> for Unconstrained {
     }
     /// `δρ = ρX`, `δ(ρ⁻¹) = −Xρ⁻¹`, `δρ̇ = (δKᵀρ⁻ᵀ + Kᵀδ(ρ⁻¹)ᵀ)J⁻¹`,
     /// `δΩ̂ = δ(ρ⁻¹)ρ̇ + ρ⁻¹δρ̇`.
-    fn kinematics_derivative(&self, f: &Gl<N>, k: &Mat<N>, inertia: &Inertia<N>, df: &Mat<N>, dk: &Mat<N>) -> Kinematics<Gl<N>, N> {
-        let kin = self.kinematics(f, k, inertia);
+    fn kinematics_derivative(&self, _f: &Gl<N>, k: &Mat<N>, inertia: &Inertia<N>, kin: &Kinematics<Gl<N>, N>, df: &Mat<N>, dk: &Mat<N>) -> Kinematics<Gl<N>, N> {
         let rho_inv = inverse(&kin.rho).unwrap_or_else(|| Mat::<N>::from_element(f64::NAN));
         let d_rho = kin.rho * df;
         let d_inv = -(df * rho_inv);

@@ -387,7 +387,7 @@ where
         let k = self.constraint.momentum_matrix(&y.1 .1);
         let dk = self.constraint.momentum_direction(dmom);
         let kin = self.constraint.kinematics(&y.0 .1, &k, &self.inertia);
-        let dkin = self.constraint.kinematics_derivative(&y.0 .1, &k, &self.inertia, dfib, &dk);
+        let dkin = self.constraint.kinematics_derivative(&y.0 .1, &k, &self.inertia, &kin, dfib, &dk);
         let d = crate::dynamics::force_derivative(&self.bundle, &self.potential, &self.metric, g, &kin.rho, eta, &dkin.rho);
         let curvature = self.bundle.curvature_at(g);
         let d_curvature = self.bundle.curvature_derivative(g, eta);
