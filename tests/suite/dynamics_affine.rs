@@ -98,6 +98,11 @@ impl<const N: usize, const E: usize> Potential<N, E> for Dipole {
     }
 }
 
+/// A random [`Dipole`] from two draws.
+fn dipole(p: &[f64]) -> Dipole {
+    Dipole { a: 0.4 * p[0], b: 0.3 * p[1] }
+}
+
 /// `V₁ + V₂`.
 #[derive(Debug, Clone, Copy)]
 struct Sum<P, Q>(P, Q);
@@ -282,6 +287,12 @@ fn internal<const N: usize>(kind: Kind, p: &[f64], rho0: &SMatrix<f64, N, N>) ->
 }
 
 /// A symmetric positive-definite inertia `0.1 I + 0.15 A Aᵀ` (or `j I`).
+/// The inertias (isotropic with `isotropic`) and translational velocities
+/// of the N = 2 and N = 3 models from the draws `p` of a property test.
+fn draws(p: &[f64], isotropic: bool) -> (SMatrix<f64, 2, 2>, SMatrix<f64, 3, 3>, Vector2<f64>, Vector3<f64>) {
+    (inertia::<2>(&p[30..], isotropic), inertia::<3>(&p[30..], isotropic), Vector2::new(p[20], p[21]), Vector3::new(p[20], p[21], p[22]))
+}
+
 fn inertia<const N: usize>(p: &[f64], isotropic: bool) -> SMatrix<f64, N, N> {
     if isotropic {
         SMatrix::<f64, N, N>::identity() * (0.3 + 0.2 * p[0])
@@ -400,11 +411,8 @@ proptest! {
         mass in 0.5f64..2.0,
         kappa in 0.2f64..1.0,
     ) {
-        let j2 = inertia::<2>(&p[30..], false);
-        let j3 = inertia::<3>(&p[30..], false);
-        let u2 = Vector2::new(p[20], p[21]);
-        let u3 = Vector3::new(p[20], p[21], p[22]);
-        let general = Sum(Elastic { kappa }, Dipole { a: 0.4 * p[23], b: 0.3 * p[24] });
+        let (j2, j3, u2, u3) = draws(&p, false);
+        let general = Sum(Elastic { kappa }, dipole(&p[23..]));
         let symmetric = Sum(Elastic { kappa }, axial(&p[23..]));
         let mut worst: f64 = 0.0;
         for kind in KINDS {
@@ -439,11 +447,8 @@ proptest! {
         mass in 0.5f64..2.0,
         kappa in 0.2f64..1.0,
     ) {
-        let j2 = inertia::<2>(&p[30..], false);
-        let j3 = inertia::<3>(&p[30..], false);
-        let u2 = Vector2::new(p[20], p[21]);
-        let u3 = Vector3::new(p[20], p[21], p[22]);
-        let general = Sum(Elastic { kappa }, Dipole { a: 0.4 * p[23], b: 0.3 * p[24] });
+        let (j2, j3, u2, u3) = draws(&p, false);
+        let general = Sum(Elastic { kappa }, dipole(&p[23..]));
         let seed = 1 + (p[0].to_bits() % 1000);
         for kind in KINDS {
             let (bs2, bh2, bs3, bt2) = (s2(), h2(), s3(), t2());
@@ -573,10 +578,7 @@ proptest! {
         if free {
             p[4..20].iter_mut().for_each(|v| *v *= 0.2);
         }
-        let j2 = inertia::<2>(&p[30..], iso);
-        let j3 = inertia::<3>(&p[30..], iso);
-        let u2 = Vector2::new(p[20], p[21]);
-        let u3 = Vector3::new(p[20], p[21], p[22]);
+        let (j2, j3, u2, u3) = draws(&p, iso);
         // free: V ≡ 0 (geodesic motion with spin–curvature coupling).
         let pot = if free { Sum(Elastic { kappa: 0.0 }, Axial { a: 0.0, b: 0.0 }) } else { Sum(Elastic { kappa }, axial(&p[23..])) };
         let mut skipped = 0usize;
@@ -1511,7 +1513,7 @@ fn agrees_with_the_coordinate_form_of_the_paper() {
         C: framedyn::coords::ChartGeometry<2, 3>,
     {
         let j = inertia::<2>(&p[30..], false);
-        let pot = Sum(Elastic { kappa: 0.7 }, Dipole { a: 0.4 * p[23], b: 0.3 * p[24] });
+        let pot = Sum(Elastic { kappa: 0.7 }, dipole(&p[23..]));
         let body = Affine::new(1.3, j).unwrap();
         let m = AffineModel::new(b, body, pot).unwrap();
         let (rho, rd) = internal(Kind::Full, p, &SMatrix::identity());
@@ -1804,11 +1806,8 @@ proptest! {
         mass in 0.5f64..2.0,
         kappa in 0.2f64..1.0,
     ) {
-        let j2 = inertia::<2>(&p[30..], false);
-        let j3 = inertia::<3>(&p[30..], false);
-        let u2 = Vector2::new(p[20], p[21]);
-        let u3 = Vector3::new(p[20], p[21], p[22]);
-        let pot = Sum(Sum(Elastic { kappa }, axial(&p[23..])), Dipole { a: 0.4 * p[23], b: 0.3 * p[24] });
+        let (j2, j3, u2, u3) = draws(&p, false);
+        let pot = Sum(Sum(Elastic { kappa }, axial(&p[23..])), dipole(&p[23..]));
         let mut worst = [0.0f64; 2];
         for kind in KINDS {
             let (bs2, bh2, bt2, bs3) = (s2(), h2(), t2(), s3());
